@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian bookworm packages the build, the tests and the tools
+# need. Root installs with apt-get; anyone else gets the exact command to run.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # DDS, codegen, shm clean
+  libpugixml-dev                                           # XML in the bridge
+  libboost-dev                                             # Boost.Beast/Asio HTTP (header-only)
+  libgtest-dev libgmock-dev libbenchmark-dev               # tests and benchmarks
+  libxml2-utils                                            # xmllint schema checks
+  iproute2 util-linux                                      # ip, unshare: loopback-only netns
+  curl wrk                                                 # HTTP checks and load
+  python3                                                  # benchmark plots and summaries
+)
+
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$pkg")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+if [ "$(id -u)" -ne 0 ]; then
+  echo "error: missing packages: ${missing[*]}" >&2
+  echo "install them as root with:" >&2
+  echo "  apt-get update && apt-get install -y ${missing[*]}" >&2
+  exit 1
+fi
+
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
