@@ -1,0 +1,22 @@
+// The project's own latencies through the Equipment runtime (mtc::dds):
+// * transition: one state change published by one Equipment until the
+//   counterpart's state machine has applied it;
+// * handshake: a request going ACTIVE until both sides are READY again
+//   (the 8 steps of Part 5 Table 1).
+#pragma once
+
+#include <vector>
+
+#include "latency_stats.hpp"
+
+namespace mtc::bench {
+
+struct EquipmentBenchOptions {
+  int first_domain_id = 104;  // uses up to 4 ids from here
+  int handshakes = 300;
+};
+
+// Empty when the runtime is not built into this benchmark.
+std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options);
+
+}  // namespace mtc::bench

@@ -1,0 +1,222 @@
+// mtc-bench-dds-latency: raw Fast DDS round trips beside the project's own
+// transition and handshake latencies, measured in one run on one machine.
+// Prints one JSON object on stdout (and to --out FILE); progress on stderr.
+//
+// Domain ids 100-107 (benchmarks own 100+, see the test registry).
+// Must run inside the loopback-only namespace: benchmarks/run.sh does that.
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "equipment_latency.hpp"
+#include "raw_pingpong.hpp"
+
+namespace {
+
+using mtc::bench::PingPongOptions;
+using mtc::bench::Series;
+using mtc::bench::Transport;
+
+std::atomic<bool> g_peer_stop{false};
+
+extern "C" void on_peer_signal(int) { g_peer_stop.store(true); }
+
+struct Options {
+  int samples = 2000;
+  int warmup = 200;
+  int handshakes = 300;
+  std::string out;
+  bool raw = true;
+  bool equipment = true;
+  bool peer = false;  // internal: this process is the forked ponger
+  Transport transport = Transport::UdpLoopback;
+  int domain = 100;
+};
+
+void usage() {
+  std::cerr << "usage: mtc-bench-dds-latency [--samples N] [--warmup N] [--handshakes N]\n"
+               "                              [--only raw|equipment] [--out FILE]\n"
+               "Runs inside the loopback-only namespace (scripts/netns-run.sh).\n";
+}
+
+bool parse_int(const char* text, int& out) {
+  char* end = nullptr;
+  const long v = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || v < 0 || v > 10000000) return false;
+  out = static_cast<int>(v);
+  return true;
+}
+
+bool parse_args(int argc, char** argv, Options& o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--peer") {
+      o.peer = true;
+    } else if (a == "--samples" && has_value) {
+      if (!parse_int(argv[++i], o.samples) || o.samples == 0) return false;
+    } else if (a == "--warmup" && has_value) {
+      if (!parse_int(argv[++i], o.warmup)) return false;
+    } else if (a == "--handshakes" && has_value) {
+      if (!parse_int(argv[++i], o.handshakes) || o.handshakes == 0) return false;
+    } else if (a == "--domain" && has_value) {
+      if (!parse_int(argv[++i], o.domain) || o.domain > 232) return false;
+    } else if (a == "--transport" && has_value) {
+      if (!mtc::bench::parse_transport(argv[++i], o.transport)) return false;
+    } else if (a == "--out" && has_value) {
+      o.out = argv[++i];
+    } else if (a == "--only" && has_value) {
+      const std::string what = argv[++i];
+      if (what != "raw" && what != "equipment") return false;
+      o.raw = what == "raw";
+      o.equipment = what == "equipment";
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+int run_peer(const Options& o) {
+  // The peer must not outlive the benchmark, whatever happens to it.
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  std::signal(SIGTERM, on_peer_signal);
+  std::signal(SIGINT, on_peer_signal);
+  PingPongOptions po;
+  po.domain_id = o.domain;
+  po.transport = o.transport;
+  try {
+    mtc::bench::run_ponger(po, g_peer_stop);
+  } catch (const std::exception& e) {
+    std::cerr << "ponger peer: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+// Starts this executable again as the ponger peer (fork + exec: a forked copy
+// of a process that already runs Fast DDS threads would be unsafe).
+pid_t spawn_peer(Transport t, int domain) {
+  const std::string transport = mtc::bench::to_string(t);
+  const std::string dom = std::to_string(domain);
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    execl("/proc/self/exe", "mtc-bench-dds-latency", "--peer", "--transport", transport.c_str(),
+          "--domain", dom.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+Series run_raw(const Options& o, Transport t, int processes, int domain) {
+  PingPongOptions po;
+  po.domain_id = domain;
+  po.transport = t;
+  po.samples = o.samples;
+  po.warmup = o.warmup;
+  std::cerr << "raw fast dds round trip: " << mtc::bench::to_string(t) << ", " << processes
+            << " process(es), " << o.samples << " samples\n";
+  Series s;
+  if (processes == 1) {
+    std::atomic<bool> stop{false};
+    std::thread ponger([&] {
+      try {
+        mtc::bench::run_ponger(po, stop);
+      } catch (const std::exception& e) {
+        std::cerr << "ponger: " << e.what() << "\n";
+      }
+    });
+    try {
+      s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
+    } catch (...) {
+      stop.store(true);
+      ponger.join();
+      throw;
+    }
+    stop.store(true);
+    ponger.join();
+  } else {
+    const pid_t peer = spawn_peer(t, domain);
+    try {
+      s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
+    } catch (...) {
+      kill(peer, SIGTERM);
+      waitpid(peer, nullptr, 0);
+      throw;
+    }
+    kill(peer, SIGTERM);
+    int status = 0;
+    waitpid(peer, &status, 0);
+  }
+  s.processes = processes;
+  s.name = "raw_fastdds_round_trip_" + mtc::bench::to_string(t) + "_" +
+           std::to_string(processes) + "proc";
+  return s;
+}
+
+std::string to_json(const Options& o, const std::vector<Series>& all) {
+  std::ostringstream json;
+  json << "{\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"cores\":"
+       << std::thread::hardware_concurrency() << ",\"samples\":" << o.samples
+       << ",\"handshakes\":" << o.handshakes
+       << ",\"qos\":\"RELIABLE KEEP_LAST 1 TRANSIENT_LOCAL, keyed InteractionSample\",\"series\":[";
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    json << (i == 0 ? "\n  " : ",\n  ") << mtc::bench::to_json(all[i]);
+  }
+  json << "\n]}\n";
+  return json.str();
+}
+
+int run(const Options& o) {
+  std::vector<Series> all;
+  if (o.raw) {
+    all.push_back(run_raw(o, Transport::UdpLoopback, 1, 100));
+    all.push_back(run_raw(o, Transport::ShmUdp, 1, 101));
+    all.push_back(run_raw(o, Transport::UdpLoopback, 2, 102));
+    all.push_back(run_raw(o, Transport::ShmUdp, 2, 103));
+  }
+  if (o.equipment) {
+    mtc::bench::EquipmentBenchOptions eo;
+    eo.first_domain_id = 104;  // 104-107
+    eo.handshakes = o.handshakes;
+    for (auto& s : mtc::bench::run_equipment_series(eo)) all.push_back(std::move(s));
+  }
+  const std::string json = to_json(o, all);
+  std::cout << json;
+  if (!o.out.empty()) {
+    std::ofstream file(o.out);
+    file << json;
+    if (!file) {
+      std::cerr << "cannot write " << o.out << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (!parse_args(argc, argv, o)) {
+    usage();
+    return 2;
+  }
+  try {
+    return o.peer ? run_peer(o) : run(o);
+  } catch (const std::exception& e) {
+    std::cerr << "mtc-bench-dds-latency: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,39 @@
+// Baseline: plain Fast DDS ping-pong with the QoS the project uses for
+// interaction items (RELIABLE, KEEP_LAST 1, TRANSIENT_LOCAL, keyed
+// InteractionSample), so the project's own latencies can be read against
+// what the middleware alone costs on the same machine in the same run.
+//
+// Fast DDS types are used directly here on purpose: this series measures the
+// middleware without any mtc layer in between.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <string>
+
+#include "latency_stats.hpp"
+
+namespace mtc::bench {
+
+enum class Transport { UdpLoopback, ShmUdp };
+
+std::string to_string(Transport t);
+bool parse_transport(const std::string& text, Transport& out);
+
+struct PingPongOptions {
+  int domain_id = 100;
+  Transport transport = Transport::UdpLoopback;
+  int warmup = 200;
+  int samples = 2000;
+  std::chrono::milliseconds reply_timeout{2000};
+};
+
+// Echoes every ping back on the pong topic until `stop` becomes true.
+// Runs in a thread (one-process mode) or as a forked peer process.
+void run_ponger(const PingPongOptions& options, const std::atomic<bool>& stop);
+
+// Sends pings one at a time and times each until its echo arrives. Waits up
+// to `match_timeout` for the ponger to be discovered; throws if it is not.
+Series run_pinger(const PingPongOptions& options, std::chrono::milliseconds match_timeout);
+
+}  // namespace mtc::bench
