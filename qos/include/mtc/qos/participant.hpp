@@ -1,0 +1,61 @@
+// Participant QoS: transports and discovery timing.
+//
+// Every test, benchmark and demo of this project runs with a loopback-only
+// transport (Transport::Loopback or LoopbackUdp): the builtin transports are
+// switched off and UDPv4 is restricted to 127.0.0.1 (interfaceWhiteList), so
+// a participant can never reach another host even outside the network
+// namespace. Discovery uses the default SPDP multicast group, which
+// scripts/netns-run.sh routes over lo, plus unicast initial peers on
+// 127.0.0.1 so that discovery also works where multicast is not routed.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+
+#include "mtc/qos/timing.hpp"
+
+namespace mtc::qos {
+
+enum class Transport : std::uint8_t {
+  Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest)
+  LoopbackUdp,   // UDPv4 on 127.0.0.1 only
+  LoopbackTest,  // Fast DDS test_UDPv4 transport on 127.0.0.1: fault injection
+  Builtin,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
+                 // for deployment on a real cell network only, never in tests
+};
+
+// Faults the LoopbackTest transport injects into what this participant
+// sends (ignored by the other transports).
+struct FaultInjection {
+  std::uint8_t drop_data_percent = 0;       // DATA submessages
+  std::uint8_t drop_heartbeat_percent = 0;  // RTPS HEARTBEAT submessages
+  std::uint8_t drop_acknack_percent = 0;    // ACKNACK submessages
+  // While *outage is true every datagram this participant sends is dropped:
+  // a cable pull that affects only this participant (the process-wide
+  // test_UDPv4Transport_ShutdownAllNetwork would cut every participant).
+  std::shared_ptr<std::atomic<bool>> outage;
+};
+
+struct ParticipantConfig {
+  std::string name = "mtc";
+  Transport transport = Transport::Loopback;
+  FaultInjection faults;
+  Timing timing;
+};
+
+// Builds the participant QoS; throws std::invalid_argument for a bad timing.
+eprosima::fastdds::dds::DomainParticipantQos participant_qos(const ParticipantConfig& config);
+
+// Intra-process delivery lets two participants of one process bypass every
+// transport. Fault-injection tests with two participants in one process must
+// turn it off (process-wide, before creating participants).
+void set_intraprocess_delivery(bool enabled);
+
+// Largest domain id Fast DDS accepts with the default port mapping.
+inline constexpr int kMaxDomainId = 232;
+
+}  // namespace mtc::qos

@@ -1,0 +1,66 @@
+// Named QoS presets of mtconnect-dds. The XML profiles file
+// qos/profiles/mtconnect_dds_profiles.xml (installed to
+// share/mtconnect-dds/) carries the same presets for the default Timing;
+// tests/qos checks that both agree.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mtc/qos/endpoint_qos.hpp"
+#include "mtc/qos/timing.hpp"
+
+namespace mtc::qos {
+
+// Interface state topics (interaction REQUEST/RESPONSE items, INTERFACE_STATE,
+// DOOR_STATE, CHUCK_STATE). Every policy and why:
+// - RELIABLE: a handshake step (READY -> ACTIVE) must never be lost; a peer
+//   that missed a transition would wait forever.
+// - TRANSIENT_LOCAL: a late joiner or a peer reconnecting after an outage gets
+//   the current value of every item at once instead of waiting a heartbeat.
+// - KEEP_LAST 1 per instance: only the current state matters; older states
+//   are never replayed (a stale ACTIVE must not resurface after recovery).
+// - DEADLINE = timing.lease(): the heartbeat contract; a missing heartbeat of
+//   one data item raises requested_deadline_missed for that instance.
+// - LIVELINESS MANUAL_BY_TOPIC, lease = timing.lease(): each write asserts the
+//   writer's liveliness; a dead, hung or cut-off writer is declared not alive
+//   within the lease. (AUTOMATIC / MANUAL_BY_PARTICIPANT are unusable for
+//   this in Fast DDS 2.9.1, see FASTDDS-NOTES.)
+// - Reliable-writer HEARTBEAT = timing.reliable_heartbeat: a lost packet is
+//   repaired within tens of milliseconds, not the 3 s default.
+// - SHARED ownership: each instance has exactly one writer (its device).
+// - max_instances 1024 per endpoint: every data item is an instance; the
+//   Fast DDS default of 10 would silently refuse larger devices.
+EndpointQos state_topic(const Timing& timing = {});
+
+// DeviceDescription announcements:
+// - RELIABLE + TRANSIENT_LOCAL + KEEP_LAST 1: a bridge or peer started later
+//   still learns every device's data items at once.
+// - no DEADLINE: the description only changes at start-up, so it is not
+//   re-published; instead the writer asserts liveliness every heartbeat:
+// - LIVELINESS MANUAL_BY_TOPIC, lease = timing.lease(): a vanished device is
+//   reported lost within the same bound as its data items.
+EndpointQos device_description_topic(const Timing& timing = {});
+
+// Names of the presets, as used in the XML profiles file:
+//   <data_writer profile_name="mtc.state.writer">, "mtc.state.reader",
+//   "mtc.device_description.writer", "mtc.device_description.reader",
+//   participant profiles "mtc.participant.loopback" (UDPv4 on 127.0.0.1 +
+//   SHM) and "mtc.participant.loopback_udp" (UDPv4 on 127.0.0.1 only).
+inline constexpr std::string_view kStateProfile = "mtc.state";
+inline constexpr std::string_view kDeviceDescriptionProfile = "mtc.device_description";
+inline constexpr std::string_view kLoopbackParticipantProfile = "mtc.participant.loopback";
+inline constexpr std::string_view kLoopbackUdpParticipantProfile =
+    "mtc.participant.loopback_udp";
+
+// Looks a preset up by name ("mtc.state", "mtc.device_description");
+// throws std::invalid_argument naming the known presets otherwise.
+EndpointQos preset(std::string_view name, const Timing& timing = {});
+std::vector<std::string> preset_names();
+
+// Path of the installed XML profiles file (share/mtconnect-dds/...), as
+// configured at build time; the source-tree copy when not installed.
+std::string profiles_file_path();
+
+}  // namespace mtc::qos

@@ -1,0 +1,78 @@
+#include "mtc/qos/participant.hpp"
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
+
+#include "mtc/qos/endpoint_qos.hpp"
+
+namespace mtc::qos {
+
+namespace fdds = eprosima::fastdds::dds;
+namespace frtps = eprosima::fastdds::rtps;
+
+namespace {
+
+// The only address any project participant may bind or send to.
+constexpr const char* kLoopback = "127.0.0.1";
+
+std::shared_ptr<frtps::TransportDescriptorInterface> loopback_udp() {
+  auto udp = std::make_shared<frtps::UDPv4TransportDescriptor>();
+  udp->interfaceWhiteList.emplace_back(kLoopback);
+  return udp;
+}
+
+std::shared_ptr<frtps::TransportDescriptorInterface> test_udp(const FaultInjection& faults) {
+  auto udp = std::make_shared<frtps::test_UDPv4TransportDescriptor>();
+  udp->interfaceWhiteList.emplace_back(kLoopback);
+  udp->dropDataMessagesPercentage = faults.drop_data_percent;
+  udp->dropHeartbeatMessagesPercentage = faults.drop_heartbeat_percent;
+  udp->dropAckNackMessagesPercentage = faults.drop_acknack_percent;
+  // Per-participant outage switch, checked for every datagram sent.
+  auto outage = faults.outage;
+  udp->messages_filter_ = [outage](eprosima::fastrtps::rtps::CDRMessage_t&) {
+    return outage && outage->load(std::memory_order_relaxed);
+  };
+  return udp;
+}
+
+}  // namespace
+
+fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
+  validate(config.timing);
+  fdds::DomainParticipantQos q = fdds::PARTICIPANT_QOS_DEFAULT;
+  q.name(config.name);
+  auto& discovery = q.wire_protocol().builtin.discovery_config;
+  discovery.leaseDuration = to_duration(config.timing.participant_lease);
+  discovery.leaseDuration_announcementperiod = to_duration(config.timing.participant_announcement);
+
+  auto& transport = q.transport();
+  switch (config.transport) {
+    case Transport::Builtin: return q;
+    case Transport::Loopback:
+      transport.use_builtin_transports = false;
+      transport.user_transports.push_back(
+          std::make_shared<frtps::SharedMemTransportDescriptor>());
+      transport.user_transports.push_back(loopback_udp());
+      break;
+    case Transport::LoopbackUdp:
+      transport.use_builtin_transports = false;
+      transport.user_transports.push_back(loopback_udp());
+      break;
+    case Transport::LoopbackTest:
+      transport.use_builtin_transports = false;
+      transport.user_transports.push_back(test_udp(config.faults));
+      break;
+  }
+  return q;
+}
+
+void set_intraprocess_delivery(bool enabled) {
+  eprosima::fastrtps::LibrarySettingsAttributes settings;
+  settings.intraprocess_delivery =
+      enabled ? eprosima::fastrtps::INTRAPROCESS_FULL : eprosima::fastrtps::INTRAPROCESS_OFF;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(settings);
+}
+
+}  // namespace mtc::qos

@@ -1,0 +1,160 @@
+// The code presets hold the documented values, and the XML profiles file
+// (parsed by Fast DDS's own XMLProfileManager) carries the same presets.
+#include <gtest/gtest.h>
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/attributes/ParticipantAttributes.h>
+#include <fastrtps/attributes/PublisherAttributes.h>
+#include <fastrtps/attributes/SubscriberAttributes.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
+
+#include <stdexcept>
+
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fdds = eprosima::fastdds::dds;
+namespace xml = eprosima::fastrtps::xmlparser;
+using mtc::qos::to_duration;
+
+TEST(Presets, StateTopicHoldsDocumentedPolicies) {
+  const auto w = mtc::qos::state_topic().writer_qos();
+  EXPECT_EQ(w.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  EXPECT_EQ(w.history().kind, fdds::KEEP_LAST_HISTORY_QOS);
+  EXPECT_EQ(w.history().depth, 1);
+  EXPECT_EQ(w.deadline().period, to_duration(300ms));
+  EXPECT_EQ(w.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+  EXPECT_EQ(w.liveliness().lease_duration, to_duration(300ms));
+  EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(20ms));
+  EXPECT_GE(w.resource_limits().max_instances, 1024);
+  const auto r = mtc::qos::state_topic().reader_qos();
+  EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(r.deadline().period, to_duration(300ms));
+  EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+}
+
+TEST(Presets, TimingIsConfigurablePerInterface) {
+  mtc::qos::Timing t;
+  t.heartbeat = 50ms;
+  t.missed_heartbeats = 4;
+  t.reliable_heartbeat = 10ms;
+  const auto w = mtc::qos::state_topic(t).writer_qos();
+  EXPECT_EQ(w.deadline().period, to_duration(200ms));
+  EXPECT_EQ(w.liveliness().lease_duration, to_duration(200ms));
+  EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(10ms));
+}
+
+TEST(Presets, DeviceDescriptionHasLivelinessButNoDeadline) {
+  const auto w = mtc::qos::device_description_topic().writer_qos();
+  EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  EXPECT_EQ(w.deadline().period, eprosima::fastrtps::c_TimeInfinite);
+  EXPECT_EQ(w.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+}
+
+TEST(Presets, BadTimingIsRejectedWithAReason) {
+  mtc::qos::Timing t;
+  t.missed_heartbeats = 1;
+  EXPECT_THROW(mtc::qos::state_topic(t), std::invalid_argument);
+  t = {};
+  t.heartbeat = 0ms;
+  EXPECT_THROW(mtc::qos::state_topic(t), std::invalid_argument);
+  t = {};
+  t.reliable_heartbeat = 1s;
+  EXPECT_THROW(mtc::qos::state_topic(t), std::invalid_argument);
+  EXPECT_THROW(mtc::qos::preset("no.such.preset"), std::invalid_argument);
+  EXPECT_NO_THROW(mtc::qos::preset("mtc.device_description"));
+}
+
+class XmlProfiles : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ASSERT_EQ(xml::XMLProfileManager::loadXMLFile(MTC_QOS_PROFILES_SOURCE), xml::XMLP_ret::XML_OK);
+  }
+};
+
+void expect_same_writer(const std::string& profile, const fdds::DataWriterQos& code) {
+  eprosima::fastrtps::PublisherAttributes a;
+  ASSERT_EQ(xml::XMLProfileManager::fillPublisherAttributes(profile, a), xml::XMLP_ret::XML_OK)
+      << profile;
+  EXPECT_EQ(a.qos.m_reliability.kind, code.reliability().kind) << profile;
+  EXPECT_EQ(a.qos.m_durability.kind, code.durability().kind) << profile;
+  EXPECT_EQ(a.qos.m_deadline.period, code.deadline().period) << profile;
+  EXPECT_EQ(a.qos.m_liveliness.kind, code.liveliness().kind) << profile;
+  EXPECT_EQ(a.qos.m_liveliness.lease_duration, code.liveliness().lease_duration) << profile;
+  EXPECT_EQ(a.qos.m_liveliness.announcement_period, code.liveliness().announcement_period);
+  EXPECT_EQ(a.qos.m_ownership.kind, code.ownership().kind) << profile;
+  EXPECT_EQ(a.topic.historyQos.kind, code.history().kind) << profile;
+  EXPECT_EQ(a.topic.historyQos.depth, code.history().depth) << profile;
+  EXPECT_EQ(a.topic.resourceLimitsQos.max_instances, code.resource_limits().max_instances);
+  EXPECT_EQ(a.topic.resourceLimitsQos.max_samples, code.resource_limits().max_samples);
+  EXPECT_EQ(a.topic.resourceLimitsQos.max_samples_per_instance,
+            code.resource_limits().max_samples_per_instance);
+  EXPECT_EQ(a.times.heartbeatPeriod, code.reliable_writer_qos().times.heartbeatPeriod) << profile;
+}
+
+void expect_same_reader(const std::string& profile, const fdds::DataReaderQos& code) {
+  eprosima::fastrtps::SubscriberAttributes a;
+  ASSERT_EQ(xml::XMLProfileManager::fillSubscriberAttributes(profile, a), xml::XMLP_ret::XML_OK)
+      << profile;
+  EXPECT_EQ(a.qos.m_reliability.kind, code.reliability().kind) << profile;
+  EXPECT_EQ(a.qos.m_durability.kind, code.durability().kind) << profile;
+  EXPECT_EQ(a.qos.m_deadline.period, code.deadline().period) << profile;
+  EXPECT_EQ(a.qos.m_liveliness.kind, code.liveliness().kind) << profile;
+  EXPECT_EQ(a.qos.m_liveliness.lease_duration, code.liveliness().lease_duration) << profile;
+  EXPECT_EQ(a.qos.m_ownership.kind, code.ownership().kind) << profile;
+  EXPECT_EQ(a.topic.historyQos.depth, code.history().depth) << profile;
+  EXPECT_EQ(a.topic.resourceLimitsQos.max_instances, code.resource_limits().max_instances);
+}
+
+TEST_F(XmlProfiles, EndpointProfilesMatchCodePresets) {
+  for (const auto& name : mtc::qos::preset_names()) {
+    const auto preset = mtc::qos::preset(name);
+    expect_same_writer(name + ".writer", preset.writer_qos());
+    expect_same_reader(name + ".reader", preset.reader_qos());
+  }
+}
+
+void expect_loopback_participant(const std::string& profile, bool with_shm) {
+  eprosima::fastrtps::ParticipantAttributes a;
+  ASSERT_EQ(xml::XMLProfileManager::fillParticipantAttributes(profile, a), xml::XMLP_ret::XML_OK);
+  mtc::qos::ParticipantConfig config;
+  config.transport = with_shm ? mtc::qos::Transport::Loopback : mtc::qos::Transport::LoopbackUdp;
+  const auto code = mtc::qos::participant_qos(config);
+  const auto& disc = a.rtps.builtin.discovery_config;
+  EXPECT_EQ(disc.leaseDuration, code.wire_protocol().builtin.discovery_config.leaseDuration);
+  EXPECT_EQ(disc.leaseDuration_announcementperiod,
+            code.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod);
+  EXPECT_FALSE(a.rtps.useBuiltinTransports);
+  EXPECT_EQ(a.rtps.useBuiltinTransports, code.transport().use_builtin_transports);
+  ASSERT_EQ(a.rtps.userTransports.size(), code.transport().user_transports.size());
+  int udp = 0;
+  int shm = 0;
+  for (const auto& t : a.rtps.userTransports) {
+    if (auto u = std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(t)) {
+      ++udp;
+      EXPECT_EQ(u->interfaceWhiteList, std::vector<std::string>{"127.0.0.1"});
+    } else if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t)) {
+      ++shm;
+    }
+  }
+  EXPECT_EQ(udp, 1);
+  EXPECT_EQ(shm, with_shm ? 1 : 0);
+}
+
+TEST_F(XmlProfiles, ParticipantProfilesAreLoopbackOnlyAndMatchCode) {
+  expect_loopback_participant(std::string(mtc::qos::kLoopbackParticipantProfile), true);
+  expect_loopback_participant(std::string(mtc::qos::kLoopbackUdpParticipantProfile), false);
+}
+
+TEST(Profiles, FilePathPointsAtAnExistingFile) {
+  const auto path = mtc::qos::profiles_file_path();
+  ASSERT_FALSE(path.empty());
+  EXPECT_EQ(xml::XMLProfileManager::loadXMLFile(path), xml::XMLP_ret::XML_OK);
+}
+
+}  // namespace

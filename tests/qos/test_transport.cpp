@@ -1,0 +1,208 @@
+// The loopback transports really carry data between two participants (run
+// inside scripts/netns-run.sh), and the test transport injects outages and
+// packet loss per participant.
+#include <gtest/gtest.h>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fdds = eprosima::fastdds::dds;
+using Sample = mtc::idl::InterfaceStateSample;
+
+// What the reader saw, guarded for the test thread.
+struct Seen : fdds::DataReaderListener {
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::vector<std::uint64_t> sequence;
+  int alive = 0;
+
+  void on_data_available(fdds::DataReader* reader) override {
+    Sample s;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&s, &info) == ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) {
+        std::lock_guard<std::mutex> lock(mutex);
+        sequence.push_back(s.sequence_number());
+      }
+      cv.notify_all();
+    }
+  }
+  void on_liveliness_changed(fdds::DataReader*, const fdds::LivelinessChangedStatus& st) override {
+    std::lock_guard<std::mutex> lock(mutex);
+    alive = st.alive_count;
+    cv.notify_all();
+  }
+  template <typename Pred>
+  bool wait(Pred pred, std::chrono::milliseconds timeout = 10s) {
+    std::unique_lock<std::mutex> lock(mutex);
+    return cv.wait_for(lock, timeout, [&] { return pred(*this); });
+  }
+};
+
+struct QuietWriterListener : fdds::DataWriterListener {};
+
+// One participant with either a writer or a reader of the state topic.
+class Peer {
+ public:
+  Peer(int domain, const mtc::qos::ParticipantConfig& config) {
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    participant_ = factory->create_participant(domain, mtc::qos::participant_qos(config));
+    if (participant_ == nullptr) throw std::runtime_error("participant");
+    type_.register_type(participant_);
+    topic_ = participant_->create_topic("mtc/test/InterfaceState", type_.get_type_name(),
+                                        mtc::qos::state_topic().topic_qos());
+    if (topic_ == nullptr) throw std::runtime_error("topic");
+  }
+  ~Peer() {
+    participant_->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+  fdds::DataWriter* make_writer() {
+    auto* pub = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    writer_ = pub->create_datawriter(topic_, mtc::qos::state_topic().writer_qos(), &wl_);
+    if (writer_ == nullptr) throw std::runtime_error("writer");
+    return writer_;
+  }
+  void make_reader(Seen& seen) {
+    auto* sub = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (sub->create_datareader(topic_, mtc::qos::state_topic().reader_qos(), &seen) == nullptr) {
+      throw std::runtime_error("reader");
+    }
+  }
+  void write(std::uint64_t seq) {
+    Sample s;
+    s.device_uuid("dev");
+    s.data_item_id("item");
+    s.sequence_number(seq);
+    ASSERT_TRUE(writer_->write(&s));
+  }
+
+ private:
+  fdds::DomainParticipant* participant_ = nullptr;
+  fdds::Topic* topic_ = nullptr;
+  fdds::DataWriter* writer_ = nullptr;
+  QuietWriterListener wl_;
+  fdds::TypeSupport type_{new mtc::idl::InterfaceStateSamplePubSubType()};
+};
+
+mtc::qos::ParticipantConfig config(mtc::qos::Transport t) {
+  mtc::qos::ParticipantConfig c;
+  c.transport = t;
+  return c;
+}
+
+void expect_delivery(int domain, mtc::qos::Transport t) {
+  mtc::qos::set_intraprocess_delivery(false);
+  Seen seen;
+  Peer a(domain, config(t));
+  Peer b(domain, config(t));
+  a.make_writer();
+  b.make_reader(seen);
+  a.write(1);  // TRANSIENT_LOCAL: arrives even if written before matching
+  ASSERT_TRUE(seen.wait([](Seen& s) { return !s.sequence.empty(); }));
+  EXPECT_EQ(seen.sequence.front(), 1u);
+}
+
+TEST(LoopbackTransport, UdpPlusShmDeliversBetweenParticipants) {
+  expect_delivery(10, mtc::qos::Transport::Loopback);
+}
+
+TEST(LoopbackTransport, UdpOnlyDeliversBetweenParticipants) {
+  expect_delivery(11, mtc::qos::Transport::LoopbackUdp);
+}
+
+// Keeps a writer heartbeating (as the runtime does) until destroyed.
+class Heartbeat {
+ public:
+  explicit Heartbeat(Peer& peer) : thread_([this, &peer] { run(peer); }) {}
+  ~Heartbeat() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+
+ private:
+  void run(Peer& peer) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    std::uint64_t seq = 0;
+    while (!cv_.wait_for(lock, 50ms, [this] { return stop_; })) {
+      peer.write(++seq);
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+TEST(TestTransport, OutageLosesLivelinessAndRecovers) {
+  mtc::qos::set_intraprocess_delivery(false);
+  auto c = config(mtc::qos::Transport::LoopbackTest);
+  c.faults.outage = std::make_shared<std::atomic<bool>>(false);
+  Seen seen;
+  Peer a(12, c);
+  Peer b(12, c);
+  a.make_writer();
+  b.make_reader(seen);
+  Heartbeat hb(a);
+  ASSERT_TRUE(seen.wait([](Seen& s) { return s.alive == 1 && !s.sequence.empty(); }));
+  const auto cut = std::chrono::steady_clock::now();
+  c.faults.outage->store(true);
+  ASSERT_TRUE(seen.wait([](Seen& s) { return s.alive == 0; }));
+  const auto detected = std::chrono::steady_clock::now() - cut;
+  EXPECT_LT(detected, 2s);  // lease 300 ms; generous bound
+  ::testing::Test::RecordProperty(
+      "detection_ms",
+      static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(detected).count()));
+  c.faults.outage->store(false);
+  {
+    std::lock_guard<std::mutex> lock(seen.mutex);
+    seen.sequence.clear();
+  }
+  ASSERT_TRUE(seen.wait([](Seen& s) { return s.alive == 1 && !s.sequence.empty(); }));
+}
+
+TEST(TestTransport, PacketLossStillDeliversInOrder) {
+  mtc::qos::set_intraprocess_delivery(false);
+  auto c = config(mtc::qos::Transport::LoopbackTest);
+  c.faults.drop_data_percent = 20;
+  Seen seen;
+  Peer a(13, c);
+  Peer b(13, c);
+  a.make_writer();
+  b.make_reader(seen);
+  a.write(1);
+  ASSERT_TRUE(seen.wait([](Seen& s) { return !s.sequence.empty(); }));
+  constexpr std::uint64_t kLast = 200;
+  for (std::uint64_t i = 2; i <= kLast; ++i) {
+    a.write(i);
+  }
+  ASSERT_TRUE(seen.wait([](Seen& s) { return s.sequence.back() == kLast; }));
+  // KEEP_LAST 1 may skip superseded values, but never reorders them.
+  EXPECT_TRUE(std::is_sorted(seen.sequence.begin(), seen.sequence.end()));
+}
+
+}  // namespace
