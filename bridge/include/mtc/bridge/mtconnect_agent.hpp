@@ -1,0 +1,106 @@
+// The MTConnect agent of the bridge: device model + observation buffer +
+// XML printer behind the `Agent` contract (agent.hpp).
+//
+// Construction and feeding (the bridge executable does this):
+//
+//   mtc::bridge::AgentOptions options;
+//   options.devices_file = "cell.xml";   // or empty: model from announcements
+//   auto agent = mtc::bridge::make_agent(options);   // throws ModelError
+//   observer callbacks -> agent->add_device / add_value / items_lost /
+//                         device_lost (from the DDS dispatch thread)
+//   HTTP threads       -> agent->route / next_part / wait_for / subscribe
+//
+// Every member is thread-safe. Ingest calls take a writer lock for
+// microseconds; rendering happens under a reader lock or from a cache.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mtc/bridge/agent.hpp"
+#include "mtc/bridge/schema_version.hpp"
+#include "mtc/dds/domain_observer.hpp"
+
+namespace mtc::bridge {
+
+// A Devices file that cannot be used: unreadable, not XML, or not an
+// MTConnectDevices document the agent can serve. what() reads
+// "<file>:<line>: <reason>".
+class ModelError : public std::runtime_error {
+ public:
+  ModelError(std::string file, std::size_t line, std::string reason);
+  const std::string& file() const noexcept { return file_; }
+  std::size_t line() const noexcept { return line_; }  // 0 when unknown
+  const std::string& reason() const noexcept { return reason_; }
+
+ private:
+  std::string file_;
+  std::size_t line_;
+  std::string reason_;
+};
+
+struct AgentOptions {
+  // MTConnect schema version of every document. Unset: the version of the
+  // Devices file when it names one of 1.3/1.6/1.8/2.0, otherwise 1.6 — the
+  // only version whose official Devices, Streams and Error schemas all
+  // accept the four Part 5 interface types (see README, "Bridge").
+  std::optional<SchemaVersion> schema_version;
+  // Observations kept for /sample. Any value >= 2 (not only powers of two).
+  std::size_t buffer_size = 131072;
+  // MTConnectDevices file mapped onto the DDS data items. Empty: the model is
+  // built from the devices' DDS announcements and grows as they appear.
+  std::string devices_file;
+  // Header sender attribute.
+  std::string sender = "mtc-bridge";
+  // Header instanceId; 0 = seconds since the epoch at construction, so every
+  // start gets a new one.
+  std::uint64_t instance_id = 0;
+  // Largest count a /sample may ask for; 0 = buffer_size.
+  std::size_t max_count = 0;
+};
+
+// Ingest counters, for logs and tests.
+struct AgentStats {
+  std::uint64_t observations = 0;       // observations appended
+  std::uint64_t duplicates = 0;         // values equal to the latest (heartbeats)
+  std::uint64_t unknown_values = 0;     // values for items not in the model
+  std::uint64_t model_changes = 0;      // model rebuilds after announcements
+  std::string last_unknown;             // "<device_uuid>/<data_item_id>"
+};
+
+class MtconnectAgent : public Agent {
+ public:
+  ~MtconnectAgent() override = default;
+
+  // --- ingest: called from the DDS dispatch thread (any thread is safe) ---
+  // A device's announcement. Without a Devices file, a new or changed
+  // announcement rebuilds the model (deviceModelChangeTime moves). Either
+  // way the device's AVAILABILITY item (if any) becomes AVAILABLE.
+  virtual void add_device(const dds::ObservedDevice& device) = 0;
+  // One value. Appended only when it differs from the item's latest value
+  // (heartbeat repeats are dropped). Values for items the model lacks are
+  // counted in stats() and dropped.
+  virtual void add_value(const dds::ObservedValue& value) = 0;
+  // The writer of these items lost liveliness: each reads UNAVAILABLE.
+  virtual void items_lost(const std::string& device_uuid,
+                          const std::vector<std::string>& data_item_ids) = 0;
+  // The device's announcement writer is gone: every item of the device,
+  // including AVAILABILITY, reads UNAVAILABLE.
+  virtual void device_lost(const std::string& device_uuid) = 0;
+
+  virtual AgentStats stats() const = 0;
+  virtual SchemaVersion schema_version() const noexcept = 0;
+  virtual std::uint64_t instance_id() const noexcept = 0;
+};
+
+// Builds the agent. Throws ModelError for an unusable Devices file and
+// std::invalid_argument for unusable options (buffer_size < 2).
+std::unique_ptr<MtconnectAgent> make_agent(const AgentOptions& options);
+
+}  // namespace mtc::bridge

@@ -1,0 +1,118 @@
+// The concrete agent: model + buffer + printer + routes. Internal to
+// mtc_bridge; users see MtconnectAgent (mtconnect_agent.hpp).
+//
+// Locking: `data_` (shared_mutex) guards model, slots, buffer, announced
+// devices and stats; ingest takes it exclusively, rendering shares it.
+// `cache_mutex_` guards the rendered-document cache only; `wait_mutex_`
+// pairs with `wait_cv_` for streams; subscriber callbacks run with no lock
+// held.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <shared_mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "mtc/bridge/device_model.hpp"
+#include "mtc/bridge/mtconnect_agent.hpp"
+#include "mtc/bridge/observation_buffer.hpp"
+#include "mtc/bridge/printer.hpp"
+#include "request.hpp"
+
+namespace mtc::bridge::detail {
+
+// A request error: MTConnect errorCode, HTTP status, text.
+struct RequestError {
+  std::string_view code;
+  int status = 400;
+  std::string text;
+};
+
+// Validated query of a probe/current/sample request.
+struct Query {
+  std::optional<std::size_t> device;  // set by /{device}/...
+  std::optional<std::string> path;
+  std::optional<std::int64_t> at, from, to, count, interval, heartbeat;
+  bool pretty = false;
+};
+
+class AgentImpl final : public MtconnectAgent {
+ public:
+  explicit AgentImpl(const AgentOptions& options);
+
+  Routed route(std::string_view method, std::string_view target) noexcept override;
+  Response next_part(StreamPlan& plan) noexcept override;
+  std::uint64_t next_sequence() const noexcept override;
+  bool wait_for(std::uint64_t from, std::chrono::milliseconds timeout) const override;
+  std::uint64_t subscribe(std::function<void()> on_new_data) override;
+  void unsubscribe(std::uint64_t id) override;
+
+  void add_device(const dds::ObservedDevice& device) override;
+  void add_value(const dds::ObservedValue& value) override;
+  void items_lost(const std::string& device_uuid,
+                  const std::vector<std::string>& data_item_ids) override;
+  void device_lost(const std::string& device_uuid) override;
+  AgentStats stats() const override;
+  SchemaVersion schema_version() const noexcept override { return printer_.version(); }
+  std::uint64_t instance_id() const noexcept override { return instance_id_; }
+
+ private:
+  // --- ingest (caller holds data_ exclusively) ---
+  bool append_if_changed(std::uint32_t slot, const std::string& value, std::int64_t time_ns);
+  void rebuild_model();
+  void mark_unobserved_unavailable(std::int64_t time_ns);
+  void set_available(std::size_t device, std::int64_t time_ns);
+  void notify(std::size_t appended);
+
+  // --- requests (caller holds data_ shared) ---
+  Routed route_target(std::string_view target);
+  Query parse_query(const Target& t, std::optional<std::size_t> device, bool sample) const;
+  std::vector<std::int32_t> item_filter(const Query& q) const;
+  HeaderInfo header() const;
+  Response current(const Query& q, const std::string& cache_key);
+  Response sample(const Query& q, std::uint64_t& next_out) const;
+  Response probe(const Query& q);
+  Response error(const RequestError& e) const;
+  Response error_locked(const RequestError& e) const;
+  Routed stream(const Query& q, std::string_view target, bool is_sample) const;
+
+  AgentOptions options_;
+  Printer printer_;
+  std::uint64_t instance_id_ = 0;
+  std::size_t max_count_ = 0;
+  bool from_file_ = false;
+
+  mutable std::shared_mutex data_;
+  DeviceModel model_;
+  SlotRegistry slots_;
+  ObservationBuffer buffer_;
+  std::vector<dds::ObservedDevice> announced_;
+  // Announcement models: latest value of items not (yet) in the model,
+  // applied when an announcement brings them.
+  std::map<std::pair<std::string, std::string>, dds::ObservedValue> pending_;
+  AgentStats stats_;
+  std::uint64_t generation_ = 1;
+  std::int64_t model_change_ns_ = 0;
+
+  struct CachedDoc {
+    std::uint64_t generation = 0;
+    std::uint64_t next_sequence = 0;
+    std::string body;
+  };
+  mutable std::mutex cache_mutex_;
+  std::unordered_map<std::string, CachedDoc> cache_;
+
+  mutable std::mutex wait_mutex_;
+  mutable std::condition_variable wait_cv_;
+  std::atomic<std::uint64_t> next_sequence_{1};
+
+  std::mutex subscribers_mutex_;
+  std::map<std::uint64_t, std::function<void()>> subscribers_;
+  std::uint64_t next_subscriber_ = 1;
+};
+
+}  // namespace mtc::bridge::detail

@@ -1,0 +1,258 @@
+// AgentImpl: construction, ingest from the DDS observer, stream waiting.
+#include <chrono>
+#include <stdexcept>
+
+#include "agent_impl.hpp"
+
+namespace mtc::bridge {
+
+namespace detail {
+
+namespace {
+
+constexpr const char* kUnavailable = "UNAVAILABLE";
+constexpr std::size_t kMaxPending = 10000;
+
+std::int64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+bool same_items(const dds::ObservedInterface& a, const dds::ObservedInterface& b) {
+  if (a.id != b.id || a.name != b.name || a.type != b.type ||
+      a.data_items.size() != b.data_items.size()) {
+    return false;
+  }
+  for (std::size_t i = 0; i < a.data_items.size(); ++i) {
+    const auto& x = a.data_items[i];
+    const auto& y = b.data_items[i];
+    if (x.id != y.id || x.name != y.name || x.type != y.type || x.sub_type != y.sub_type ||
+        x.category != y.category) {
+      return false;
+    }
+  }
+  return true;
+}
+
+bool same_device(const dds::ObservedDevice& a, const dds::ObservedDevice& b) {
+  if (a.name != b.name || a.interfaces.size() != b.interfaces.size()) return false;
+  for (std::size_t i = 0; i < a.interfaces.size(); ++i) {
+    if (!same_items(a.interfaces[i], b.interfaces[i])) return false;
+  }
+  return true;
+}
+
+SchemaVersion pick_version(const AgentOptions& options, const DeviceModel& model) {
+  if (options.schema_version) return *options.schema_version;
+  if (model.file_version()) return *model.file_version();
+  return SchemaVersion::V1_6;
+}
+
+}  // namespace
+
+AgentImpl::AgentImpl(const AgentOptions& options)
+    : options_(options),
+      printer_(options.schema_version.value_or(SchemaVersion::V1_6)),
+      buffer_(options.buffer_size) {
+  instance_id_ = options.instance_id != 0
+                     ? options.instance_id
+                     : static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::seconds>(
+                                                      std::chrono::system_clock::now().time_since_epoch())
+                                                      .count());
+  max_count_ = options.max_count == 0 ? options.buffer_size
+                                      : std::min(options.max_count, options.buffer_size);
+  model_change_ns_ = now_ns();
+  if (!options.devices_file.empty()) {
+    model_ = DeviceModel::from_file(options.devices_file, slots_);
+    printer_ = Printer(pick_version(options, model_));
+    from_file_ = true;
+  }
+  mark_unobserved_unavailable(model_change_ns_);
+  next_sequence_ = buffer_.next_sequence();
+}
+
+bool AgentImpl::append_if_changed(std::uint32_t slot, const std::string& value,
+                                  std::int64_t time_ns) {
+  const Observation* latest = buffer_.latest(slot);
+  if (latest && latest->value == value) {
+    ++stats_.duplicates;
+    return false;
+  }
+  buffer_.append(slot, value, time_ns);
+  ++stats_.observations;
+  return true;
+}
+
+void AgentImpl::mark_unobserved_unavailable(std::int64_t time_ns) {
+  for (const DataItemInfo& item : model_.data_items()) {
+    if (!buffer_.latest(item.slot)) {
+      buffer_.append(item.slot, kUnavailable, time_ns);
+      ++stats_.observations;
+    }
+  }
+}
+
+void AgentImpl::set_available(std::size_t device, std::int64_t time_ns) {
+  const auto slot = model_.devices()[device].availability_slot;
+  if (slot) append_if_changed(*slot, "AVAILABLE", time_ns);
+}
+
+void AgentImpl::rebuild_model() {
+  model_ = DeviceModel::from_announcements(announced_, printer_.version(), slots_);
+  ++generation_;
+  ++stats_.model_changes;
+  model_change_ns_ = now_ns();
+  mark_unobserved_unavailable(model_change_ns_);
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    if (const auto item = model_.find_item(it->first.first, it->first.second)) {
+      const dds::ObservedValue& v = it->second;
+      const std::int64_t t = v.source_time_ns ? v.source_time_ns : model_change_ns_;
+      append_if_changed(model_.data_items()[*item].slot, v.value.empty() ? kUnavailable : v.value,
+                        t);
+      it = pending_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void AgentImpl::add_device(const dds::ObservedDevice& device) {
+  std::size_t before = 0;
+  std::size_t after = 0;
+  {
+    std::unique_lock lock(data_);
+    before = buffer_.next_sequence();
+    if (!from_file_) {
+      auto it = std::find_if(announced_.begin(), announced_.end(), [&](const auto& d) {
+        return d.device_uuid == device.device_uuid;
+      });
+      if (it == announced_.end()) {
+        announced_.push_back(device);
+        rebuild_model();
+      } else if (!same_device(*it, device)) {
+        *it = device;
+        rebuild_model();
+      }
+    }
+    if (const auto d = model_.find_device_by_uuid(device.device_uuid)) {
+      set_available(*d, now_ns());
+    }
+    after = buffer_.next_sequence();
+  }
+  notify(after - before);
+}
+
+void AgentImpl::add_value(const dds::ObservedValue& value) {
+  std::size_t appended = 0;
+  {
+    std::unique_lock lock(data_);
+    const auto item = model_.find_item(value.device_uuid, value.data_item_id);
+    if (!item) {
+      ++stats_.unknown_values;
+      stats_.last_unknown = value.device_uuid + "/" + value.data_item_id;
+      if (!from_file_ && (pending_.size() < kMaxPending ||
+                          pending_.count({value.device_uuid, value.data_item_id}))) {
+        pending_[{value.device_uuid, value.data_item_id}] = value;
+      }
+      return;
+    }
+    const std::uint64_t before = buffer_.next_sequence();
+    const std::int64_t t = value.source_time_ns    ? value.source_time_ns
+                           : value.reception_time_ns ? value.reception_time_ns
+                                                     : now_ns();
+    const DataItemInfo& info = model_.data_items()[*item];
+    append_if_changed(info.slot, value.value.empty() ? kUnavailable : value.value, t);
+    // A device that sends values is reachable, announced or not.
+    set_available(info.device, t);
+    appended = buffer_.next_sequence() - before;
+  }
+  notify(appended);
+}
+
+void AgentImpl::items_lost(const std::string& device_uuid, const std::vector<std::string>& ids) {
+  std::size_t appended = 0;
+  {
+    std::unique_lock lock(data_);
+    const std::uint64_t before = buffer_.next_sequence();
+    const std::int64_t t = now_ns();
+    for (const std::string& id : ids) {
+      pending_.erase({device_uuid, id});
+      if (const auto item = model_.find_item(device_uuid, id)) {
+        append_if_changed(model_.data_items()[*item].slot, kUnavailable, t);
+      } else {
+        ++stats_.unknown_values;
+        stats_.last_unknown = device_uuid + "/" + id;
+      }
+    }
+    appended = buffer_.next_sequence() - before;
+  }
+  notify(appended);
+}
+
+void AgentImpl::device_lost(const std::string& device_uuid) {
+  std::size_t appended = 0;
+  {
+    std::unique_lock lock(data_);
+    const std::uint64_t before = buffer_.next_sequence();
+    const auto device = model_.find_device_by_uuid(device_uuid);
+    if (device) {
+      const std::int64_t t = now_ns();
+      for (std::size_t i : model_.all_items(*device)) {
+        append_if_changed(model_.data_items()[i].slot, kUnavailable, t);
+      }
+    }
+    appended = buffer_.next_sequence() - before;
+  }
+  notify(appended);
+}
+
+void AgentImpl::notify(std::size_t appended) {
+  if (appended == 0) return;
+  {
+    std::shared_lock lock(data_);
+    std::lock_guard wait_lock(wait_mutex_);
+    next_sequence_ = buffer_.next_sequence();
+  }
+  wait_cv_.notify_all();
+  std::vector<std::function<void()>> callbacks;
+  {
+    std::lock_guard lock(subscribers_mutex_);
+    callbacks.reserve(subscribers_.size());
+    for (const auto& [id, fn] : subscribers_) callbacks.push_back(fn);
+  }
+  for (const auto& fn : callbacks) fn();
+}
+
+AgentStats AgentImpl::stats() const {
+  std::shared_lock lock(data_);
+  return stats_;
+}
+
+std::uint64_t AgentImpl::next_sequence() const noexcept { return next_sequence_.load(); }
+
+bool AgentImpl::wait_for(std::uint64_t from, std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(wait_mutex_);
+  return wait_cv_.wait_for(lock, timeout, [&] { return next_sequence_.load() > from; });
+}
+
+std::uint64_t AgentImpl::subscribe(std::function<void()> on_new_data) {
+  std::lock_guard lock(subscribers_mutex_);
+  const std::uint64_t id = next_subscriber_++;
+  subscribers_.emplace(id, std::move(on_new_data));
+  return id;
+}
+
+void AgentImpl::unsubscribe(std::uint64_t id) {
+  std::lock_guard lock(subscribers_mutex_);
+  subscribers_.erase(id);
+}
+
+}  // namespace detail
+
+std::unique_ptr<MtconnectAgent> make_agent(const AgentOptions& options) {
+  if (options.buffer_size < 2) throw std::invalid_argument("buffer_size must be at least 2");
+  return std::make_unique<detail::AgentImpl>(options);
+}
+
+}  // namespace mtc::bridge

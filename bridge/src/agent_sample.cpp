@@ -1,0 +1,138 @@
+// AgentImpl: /sample and streaming (interval) requests.
+//
+// count > 0: the first `count` matching observations from `from` (default:
+// firstSequence) up to, not including, `to` (default: nextSequence);
+// nextSequence is the sequence after the last one examined.
+// count < 0: the last |count| matching observations below `to` (default:
+// nextSequence) and not below `from`; printed oldest first; nextSequence is
+// the sequence after the range examined.
+#include <algorithm>
+
+#include "agent_impl.hpp"
+
+namespace mtc::bridge::detail {
+
+namespace {
+
+constexpr std::int64_t kDefaultCount = 100;
+
+RequestError out_of_range(std::string text) { return {"OUT_OF_RANGE", 400, std::move(text)}; }
+
+}  // namespace
+
+Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
+  const auto first = static_cast<std::int64_t>(buffer_.first_sequence());
+  const auto next = static_cast<std::int64_t>(buffer_.next_sequence());
+  const std::int64_t count = q.count.value_or(kDefaultCount);
+  const auto max_count = static_cast<std::int64_t>(max_count_);
+  if (q.from && (*q.from < first || *q.from > next)) {
+    throw out_of_range("'from' must be between " + std::to_string(first) + " and " +
+                       std::to_string(next));
+  }
+  if (q.to && (*q.to <= q.from.value_or(first - 1) || *q.to > next)) {
+    throw out_of_range("'to' must be greater than 'from' (or firstSequence) and at most " +
+                       std::to_string(next));
+  }
+  if (count == 0) throw out_of_range("'count' must not be zero");
+  if (count > max_count || count < -max_count) {
+    throw RequestError{"TOO_MANY", 400,
+                       "'count' must be at most " + std::to_string(max_count) + " in magnitude"};
+  }
+  if (q.to && count < 0) throw out_of_range("'count' must be positive when 'to' is given");
+
+  const std::vector<std::int32_t> filter = item_filter(q);
+  auto selected = [&](std::uint64_t seq) -> const Observation* {
+    const Observation* o = buffer_.find(seq);
+    if (!o || o->slot >= filter.size() || filter[o->slot] < 0) return nullptr;
+    return o;
+  };
+  std::vector<StreamEntry> entries;
+  const auto lower = static_cast<std::uint64_t>(q.from.value_or(first));
+  const auto upper = static_cast<std::uint64_t>(q.to.value_or(next));  // exclusive
+  std::uint64_t end = upper;
+  if (count > 0) {
+    std::uint64_t seq = lower;
+    for (; seq < upper && entries.size() < static_cast<std::size_t>(count); ++seq) {
+      if (const Observation* o = selected(seq)) {
+        entries.push_back({static_cast<std::size_t>(filter[o->slot]), o});
+      }
+    }
+    end = seq;
+  } else {
+    for (std::uint64_t seq = upper; seq > lower && entries.size() < static_cast<std::size_t>(-count);
+         --seq) {
+      if (const Observation* o = selected(seq - 1)) {
+        entries.push_back({static_cast<std::size_t>(filter[o->slot]), o});
+      }
+    }
+    std::reverse(entries.begin(), entries.end());
+  }
+  HeaderInfo h = header();
+  h.next_sequence = end;
+  next_out = end;
+  return {200, "text/xml", printer_.streams(h, model_, q.device, entries, q.pretty)};
+}
+
+Routed AgentImpl::stream(const Query& q, std::string_view target, bool is_sample) const {
+  // Validate everything the parts will need now, so a bad request gets an
+  // error response instead of a stream.
+  (void)item_filter(q);
+  StreamPlan plan;
+  plan.is_sample = is_sample;
+  plan.interval = std::chrono::milliseconds(*q.interval);
+  if (q.heartbeat) plan.heartbeat = std::chrono::milliseconds(*q.heartbeat);
+  plan.target = std::string(target);
+  if (is_sample) {
+    std::uint64_t next = 0;
+    Response first_part = sample(q, next);  // range checks of from/count
+    (void)first_part;
+    plan.next_sequence = static_cast<std::uint64_t>(q.from.value_or(
+        static_cast<std::int64_t>(buffer_.first_sequence())));
+  } else {
+    plan.next_sequence = buffer_.next_sequence();
+  }
+  return Routed{std::nullopt, plan};
+}
+
+Response AgentImpl::next_part(StreamPlan& plan) noexcept {
+  try {
+    std::string why;
+    const auto parsed = parse_target(plan.target, why);
+    if (!parsed) throw RequestError{"INVALID_URI", 400, why};
+    std::shared_lock lock(data_);
+    std::optional<std::size_t> device;
+    const auto& seg = parsed->segments;
+    if (seg.size() == 2 && !(device = model_.find_device(seg[0]))) {
+      throw RequestError{"NO_DEVICE", 404, "no device named '" + seg[0] + "'"};
+    }
+    Query q = parse_query(*parsed, device, plan.is_sample);
+    if (!plan.is_sample) {
+      plan.next_sequence = buffer_.next_sequence();
+      q.interval.reset();
+      const std::string key = std::to_string(device ? *device : SIZE_MAX) + '|' +
+                              q.path.value_or("") + '|' + (q.pretty ? "p" : "");
+      return current(q, key);
+    }
+    if (plan.next_sequence < buffer_.first_sequence()) {
+      throw RequestError{"OUT_OF_RANGE", 400,
+                         "the stream fell behind the buffer: sequence " +
+                             std::to_string(plan.next_sequence) + " was overwritten"};
+    }
+    q.from = static_cast<std::int64_t>(std::min(plan.next_sequence, buffer_.next_sequence()));
+    if (q.count && *q.count < 0) q.count = -*q.count;
+    std::uint64_t next = 0;
+    Response part = sample(q, next);
+    plan.next_sequence = next;
+    return part;
+  } catch (const RequestError& e) {
+    return error(e);
+  } catch (const std::exception& e) {
+    return error({"INTERNAL_ERROR", 500, e.what()});
+  } catch (...) {
+    Response r;
+    r.status = 500;
+    return r;
+  }
+}
+
+}  // namespace mtc::bridge::detail

@@ -1,0 +1,92 @@
+// DeviceModel from the devices' DDS announcements: one Device per
+// announcement, holding an AVAILABILITY item and an Interfaces component
+// with one *Interface component per announced interface.
+#include <cctype>
+#include <unordered_set>
+
+#include "mtc/bridge/device_model.hpp"
+
+namespace mtc::bridge {
+
+namespace {
+
+// Key under which a device's AVAILABILITY item is registered; no DDS data
+// item id can start with a control character.
+const std::string kAvailabilityKey = "\x01" "availability";
+
+// Makes `text` a valid xs:ID (NCName) that no other element uses.
+class IdMaker {
+ public:
+  std::string make(const std::string& text, const std::string& fallback) {
+    std::string id = text.empty() ? fallback : text;
+    for (char& c : id) {
+      const auto uc = static_cast<unsigned char>(c);
+      if (!std::isalnum(uc) && c != '_' && c != '-' && c != '.') c = '_';
+    }
+    const auto first = static_cast<unsigned char>(id.front());
+    if (!std::isalpha(first) && id.front() != '_') id.insert(0, "_");
+    std::string unique = id;
+    for (int n = 2; !used_.insert(unique).second; ++n) unique = id + "_" + std::to_string(n);
+    return unique;
+  }
+
+ private:
+  std::unordered_set<std::string> used_;
+};
+
+}  // namespace
+
+DeviceModel DeviceModel::from_announcements(const std::vector<dds::ObservedDevice>& devices,
+                                            SchemaVersion version, SlotRegistry& slots) {
+  DeviceModel model;
+  IdMaker ids;
+  pugi::xml_node root = model.doc_.append_child("Devices");
+  for (const dds::ObservedDevice& announced : devices) {
+    const std::string& name = announced.name.empty() ? announced.device_uuid : announced.name;
+    pugi::xml_node dev = root.append_child("Device");
+    const std::string dev_id = ids.make(name, "device");
+    dev.append_attribute("id") = dev_id.c_str();
+    dev.append_attribute("name") = name.c_str();
+    dev.append_attribute("uuid") = announced.device_uuid.c_str();
+
+    pugi::xml_node avail = dev.append_child("DataItems").append_child("DataItem");
+    const std::string avail_id = ids.make(dev_id + "_avail", "avail");
+    avail.append_attribute("category") = "EVENT";
+    avail.append_attribute("id") = avail_id.c_str();
+    avail.append_attribute("type") = "AVAILABILITY";
+    model.source_of_xml_id_[avail_id] = kAvailabilityKey;
+
+    pugi::xml_node interfaces;
+    for (const dds::ObservedInterface& itf : announced.interfaces) {
+      const std::string_view element = core::element_name(itf.type);
+      if (!devices_schema_has(version, element)) continue;
+      if (!interfaces) {
+        interfaces = dev.append_child("Components").append_child("Interfaces");
+        interfaces.append_attribute("id") = ids.make(dev_id + "_interfaces", "interfaces").c_str();
+        interfaces = interfaces.append_child("Components");
+      }
+      pugi::xml_node comp = interfaces.append_child(std::string(element).c_str());
+      comp.append_attribute("id") = ids.make(itf.id, "interface").c_str();
+      if (!itf.name.empty()) comp.append_attribute("name") = itf.name.c_str();
+      pugi::xml_node items;
+      for (const dds::ObservedDataItem& di : itf.data_items) {
+        if (di.type.empty() || di.id.empty()) continue;
+        if (!items) items = comp.append_child("DataItems");
+        pugi::xml_node node = items.append_child("DataItem");
+        const std::string xml_id = ids.make(di.id, "item");
+        node.append_attribute("category") = di.category.empty() ? "EVENT" : di.category.c_str();
+        node.append_attribute("id") = xml_id.c_str();
+        if (!di.name.empty()) node.append_attribute("name") = di.name.c_str();
+        node.append_attribute("type") = di.type.c_str();
+        if (!di.sub_type.empty()) node.append_attribute("subType") = di.sub_type.c_str();
+        if (xml_id != di.id) model.source_of_xml_id_[xml_id] = di.id;
+      }
+    }
+  }
+  model.index(slots);
+  return model;
+}
+
+const std::string& availability_key() { return kAvailabilityKey; }
+
+}  // namespace mtc::bridge
