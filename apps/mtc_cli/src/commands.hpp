@@ -1,0 +1,42 @@
+// The subcommands of the `mtc` tool. Each one is a CommandSpec (its options
+// and help, as data) plus a run function; main() parses the arguments,
+// handles --help and usage errors, and calls run with a Context.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli_args.hpp"
+#include "output.hpp"
+#include "shutdown_signal.hpp"
+
+namespace mtc::cli {
+
+struct Context {
+  Output& out;   // stdout, one flushed line per event
+  Output& err;   // stderr, diagnostics
+  ShutdownSignal& shutdown;
+};
+
+// Options every subcommand shares.
+struct CommonOptions {
+  int domain = 0;
+  std::string qos_profile;  // mtc::qos preset name; empty = the library default
+  bool json = false;
+};
+
+void add_common_options(CommandSpec& spec);
+// Throws UsageError for an out-of-range domain or an unknown profile name.
+CommonOptions parse_common_options(const ParsedArgs& args);
+
+struct Command {
+  CommandSpec spec;
+  int (*run)(const ParsedArgs& args, Context& context);
+};
+
+Command watch_command();
+Command list_command();
+Command request_command();
+Command respond_command();
+
+}  // namespace mtc::cli

@@ -1,0 +1,29 @@
+#include <string>
+
+#include "commands.hpp"
+#include "profiles.hpp"
+
+namespace mtc::cli {
+
+void add_common_options(CommandSpec& spec) {
+  spec.options.push_back({"domain", "N", "DDS domain id (0-232)", "0"});
+  spec.options.push_back({"qos-profile", "NAME",
+                          "QoS preset of the state topics (" + known_profiles_text() + ")",
+                          "library default, loopback transport"});
+  spec.options.push_back({"json", "", "print one JSON object per line (for scripts)", ""});
+}
+
+CommonOptions parse_common_options(const ParsedArgs& args) {
+  CommonOptions common;
+  if (auto d = args.value("domain")) common.domain = static_cast<int>(to_int("domain", *d, 0, 232));
+  if (auto p = args.value("qos-profile")) {
+    if (!is_known_profile(*p)) {
+      throw UsageError("unknown QoS profile '" + *p + "' (known: " + known_profiles_text() + ")");
+    }
+    common.qos_profile = *p;
+  }
+  common.json = args.has("json");
+  return common;
+}
+
+}  // namespace mtc::cli

@@ -1,0 +1,50 @@
+// Options shared by `mtc request` and `mtc respond`: who this process is on
+// the domain (device, interface), who its counterpart is, the transport and
+// heartbeat timing, and the failure-injection flags.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "fail_injection.hpp"
+#include "mtc/core/vocabulary.hpp"
+
+namespace mtc::cli {
+
+enum class TransportChoice : std::uint8_t { Loopback, LoopbackUdp, Builtin };
+
+struct EquipmentConfig {
+  CommonOptions common;
+  std::string device_uuid;
+  std::string device_name;
+  std::string interface_id;
+  core::InterfaceType interface_type = core::InterfaceType::MaterialHandler;
+  std::vector<core::Service> services;
+  std::string counterpart;  // device uuid of the other side; may be empty for respond
+  TransportChoice transport = TransportChoice::Loopback;
+  std::chrono::milliseconds heartbeat{100};
+  int missed_heartbeats = 3;
+  int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
+  std::chrono::milliseconds fail_ack_timeout{2000};
+};
+
+// add_*: declare the flags; parse_*: read them (UsageError on bad values).
+void add_equipment_options(CommandSpec& spec, bool many_services);
+EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_services,
+                                        bool counterpart_required);
+
+void add_fail_options(CommandSpec& spec, bool responder);
+FailPlan parse_fail_options(const ParsedArgs& args, bool responder);
+
+// "MATERIAL_LOAD" -> Service; "all" or a comma list when many is true.
+std::vector<core::Service> parse_services(const std::string& text, bool many);
+// The interface type a service usually lives on (door services on a door ...).
+core::InterfaceType default_interface_type(core::Service service);
+
+// Per-handshake durations from "500" or "60000,10" (the last one repeats).
+std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text);
+
+}  // namespace mtc::cli

@@ -1,0 +1,78 @@
+#include "shutdown_signal.hpp"
+
+#include <pthread.h>
+#include <signal.h>
+
+#include <system_error>
+
+namespace mtc::cli {
+
+namespace {
+
+sigset_t shutdown_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  return set;
+}
+
+}  // namespace
+
+ShutdownSignal::ShutdownSignal() {
+  // A closed stdout pipe (e.g. `mtc watch | head`) must not kill us silently
+  // mid-write; the write fails and the command ends normally instead.
+  ::signal(SIGPIPE, SIG_IGN);
+  sigset_t set = shutdown_signals();
+  if (int rc = pthread_sigmask(SIG_BLOCK, &set, nullptr); rc != 0) {
+    throw std::system_error(rc, std::generic_category(), "pthread_sigmask");
+  }
+  thread_ = std::thread([this] { run(); });
+}
+
+ShutdownSignal::~ShutdownSignal() {
+  closing_ = true;
+  // Wake the sigwait() thread with a signal aimed only at it.
+  pthread_kill(thread_.native_handle(), SIGTERM);
+  thread_.join();
+}
+
+void ShutdownSignal::run() {
+  const sigset_t set = shutdown_signals();
+  while (true) {
+    int sig = 0;
+    if (sigwait(&set, &sig) != 0) continue;
+    if (closing_) return;
+    request(sig);
+  }
+}
+
+void ShutdownSignal::request(int signal_number) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!requested_) signal_number_ = signal_number;
+    requested_ = true;
+  }
+  cv_.notify_all();
+}
+
+void ShutdownSignal::poke() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++pokes_;
+  }
+  cv_.notify_all();
+}
+
+bool ShutdownSignal::wait_for(std::chrono::milliseconds timeout) {
+  return wait_until(std::chrono::steady_clock::now() + timeout);
+}
+
+bool ShutdownSignal::wait_until(std::chrono::steady_clock::time_point deadline) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  const std::uint64_t pokes = pokes_;
+  cv_.wait_until(lock, deadline, [&] { return requested_.load() || pokes_ != pokes; });
+  return requested_;
+}
+
+}  // namespace mtc::cli

@@ -1,0 +1,72 @@
+// A child process for cross-process tests: started with fork/exec, its
+// stdout and stderr captured through pipes, read line by line with poll()
+// against deadlines. Tests synchronise on the lines a child prints and on its
+// exit status, never on sleeps. A child that outlives its ChildProcess (or the
+// test process itself) is killed: SIGKILL in the destructor, and
+// PR_SET_PDEATHSIG in case the test process dies first.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mtc::test {
+
+using std::chrono::milliseconds;
+
+class ChildProcess {
+ public:
+  // argv[0] is the executable's path. Throws std::system_error on failure.
+  explicit ChildProcess(std::vector<std::string> argv);
+  ~ChildProcess();
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  pid_t pid() const { return pid_; }
+
+  // Next stdout line (after the last one returned) that contains every needle;
+  // nullopt when the timeout passes or the child closes stdout first.
+  std::optional<std::string> wait_for_line(const std::vector<std::string>& needles,
+                                           milliseconds timeout);
+  // Every stdout line read so far.
+  const std::vector<std::string>& lines() const { return out_lines_; }
+
+  void send_signal(int signal_number);
+  // Exit code, 128 + signal when killed by a signal, nullopt at timeout. Reads
+  // the remaining output on the way.
+  std::optional<int> wait_exit(milliseconds timeout);
+  bool running() const { return !exit_code_.has_value(); }
+
+  // Command line, stdout and stderr: for assertion messages.
+  std::string transcript() const;
+  std::string stderr_text() const { return err_text_; }
+
+ private:
+  // Reads whatever is available until `deadline`, or returns early once a new
+  // complete line arrived on stdout. False once nothing more can come.
+  bool pump(std::chrono::steady_clock::time_point deadline);
+  void drain(int& fd, std::string& partial, bool is_stdout);
+  void reap(bool block);
+
+  std::vector<std::string> argv_;
+  pid_t pid_ = -1;
+  int pidfd_ = -1;
+  int out_fd_ = -1;
+  int err_fd_ = -1;
+  std::string out_partial_;
+  std::string err_partial_;
+  std::string err_text_;
+  std::vector<std::string> out_lines_;
+  std::size_t next_line_ = 0;
+  std::optional<int> exit_code_;
+};
+
+// Value of a string or number field in one of mtc's JSON lines
+// ({"event":"outcome","result":"COMPLETE",...}); nullopt when absent. Enough for
+// the flat objects mtc prints; not a general JSON parser.
+std::optional<std::string> json_field(const std::string& line, const std::string& key);
+
+}  // namespace mtc::test

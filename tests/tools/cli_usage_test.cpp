@@ -1,0 +1,120 @@
+// The `mtc` tool's contract with users and scripts that needs no peer:
+// --help for every command, exit code 2 with a clear message for every kind
+// of bad input. These start no DDS participant (bad input is rejected first).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+
+namespace mtc::test {
+namespace {
+
+constexpr milliseconds kExitTimeout{20000};
+
+struct MtcRun {
+  int code;
+  std::string out;
+  std::string err;
+};
+
+MtcRun run_mtc(std::vector<std::string> args) {
+  args.insert(args.begin(), MTC_CLI_PATH);
+  ChildProcess child(args);
+  const auto code = child.wait_exit(kExitTimeout);
+  std::string out;
+  for (const auto& l : child.lines()) out += l + "\n";
+  return {code.value_or(-1), out, child.stderr_text()};
+}
+
+TEST(CliUsage, OverviewListsEveryCommandAndExitCodes) {
+  const MtcRun r = run_mtc({"--help"});
+  EXPECT_EQ(r.code, 0);
+  for (const char* word : {"watch", "list", "request", "respond", "Exit codes"}) {
+    EXPECT_NE(r.out.find(word), std::string::npos) << word << "\n" << r.out;
+  }
+}
+
+TEST(CliUsage, NoCommandIsAUsageError) {
+  const MtcRun r = run_mtc({});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("Usage: mtc <command>"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, EveryCommandHasHelpWithExamples) {
+  for (const char* command : {"watch", "list", "request", "respond"}) {
+    const MtcRun r = run_mtc({command, "--help"});
+    EXPECT_EQ(r.code, 0) << command;
+    EXPECT_NE(r.out.find(std::string("Usage: mtc ") + command), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("--domain"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("--qos-profile"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("Examples:"), std::string::npos) << r.out;
+  }
+}
+
+TEST(CliUsage, UnknownCommandExits2) {
+  const MtcRun r = run_mtc({"frobnicate"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown command 'frobnicate'"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, UnknownOptionExits2AndNamesIt) {
+  const MtcRun r = run_mtc({"watch", "--colour"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown option '--colour'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("mtc watch --help"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, MissingValueExits2) {
+  const MtcRun r = run_mtc({"list", "--domain"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("needs a value"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, OutOfRangeDomainExits2) {
+  const MtcRun r = run_mtc({"list", "--domain", "300"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--domain expects an integer in [0, 232]"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, UnknownQosProfileExits2AndListsKnownOnes) {
+  const MtcRun r = run_mtc({"watch", "--qos-profile", "fast-please"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown QoS profile 'fast-please'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("mtc.state"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, BadDurationExits2) {
+  const MtcRun r = run_mtc({"watch", "--duration", "soon"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("duration like 500ms"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, UnknownServiceExits2AndListsTheTen) {
+  const MtcRun r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service",
+                         "MATERIAL_TELEPORT", "--counterpart", "machine-1"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown service 'MATERIAL_TELEPORT'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("CLOSE_CHUCK"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, RequestWithoutRequiredFlagsExits2) {
+  const MtcRun r = run_mtc({"request", "--service", "MATERIAL_LOAD"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--device"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, RespondRejectsBadFailureInjection) {
+  MtcRun r = run_mtc({"respond", "--device", "m", "--interface", "mh", "--service", "MATERIAL_LOAD",
+                   "--fail-at", "lunch"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--fail-at"), std::string::npos) << r.err;
+  r = run_mtc({"respond", "--device", "m", "--interface", "mh", "--service", "MATERIAL_LOAD",
+               "--fail-rate", "1.5"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--fail-rate expects a number in [0, 1]"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace mtc::test

@@ -1,0 +1,111 @@
+// Successful handshakes between two `mtc` processes: every one of the ten
+// services, many handshakes in order, and the requester's reactions to a
+// responder that is NOT_READY or absent.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "mtc_fixture.hpp"
+
+namespace mtc::test {
+namespace {
+
+const std::vector<std::string> kServices = {
+    "MATERIAL_FEED", "MATERIAL_CHANGE", "MATERIAL_RETRACT", "PART_CHANGE", "MATERIAL_LOAD",
+    "MATERIAL_UNLOAD", "OPEN_DOOR", "CLOSE_DOOR", "OPEN_CHUCK", "CLOSE_CHUCK"};
+
+const std::vector<std::string> kSuccess = {"request:ACTIVE", "response:ACTIVE",
+                                           "response:COMPLETE", "request:READY",
+                                           "response:READY"};
+
+std::vector<std::string> requester_args(const std::string& service, std::vector<std::string> more = {}) {
+  std::vector<std::string> args = {"--device", "robot-1", "--interface", "cell",
+                                   "--service", service, "--counterpart", "machine-1",
+                                   "--timeout", "30s"};
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
+}
+
+TEST(Handshake, EveryServiceCompletesAcrossProcesses) {
+  constexpr int kDomain = 60;
+  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "cell",
+                                             "--service", "all", "--counterpart", "robot-1",
+                                             "--action-ms", "10"});
+  int n = 0;
+  for (const auto& service : kServices) {
+    SCOPED_TRACE(service);
+    auto requester = start_mtc("request", kDomain, requester_args(service));
+    ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 0) << requester->transcript();
+    const auto out = outcomes(*requester);
+    ASSERT_EQ(out.size(), 1u) << requester->transcript();
+    EXPECT_EQ(out[0].result, "COMPLETE");
+    EXPECT_EQ(transitions(*requester, 1), kSuccess) << requester->transcript();
+    // The responder reports the same handshake, for this service.
+    ++n;
+    const auto line = wait_outcome(*responder, n);
+    ASSERT_TRUE(line) << responder->transcript();
+    EXPECT_EQ(json_field(*line, "service"), service);
+    EXPECT_EQ(json_field(*line, "result"), "COMPLETE");
+  }
+}
+
+TEST(Handshake, ManyHandshakesCompleteInOrderWithLatencies) {
+  constexpr int kDomain = 61;
+  constexpr int kCount = 20;
+  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "cell",
+                                             "--service", "MATERIAL_LOAD", "--counterpart",
+                                             "robot-1", "--action-ms", "0"});
+  auto requester = start_mtc("request", kDomain,
+                             requester_args("MATERIAL_LOAD", {"--count", std::to_string(kCount)}));
+  ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 0) << requester->transcript();
+  const auto out = outcomes(*requester);
+  ASSERT_EQ(out.size(), static_cast<std::size_t>(kCount)) << requester->transcript();
+  for (int i = 0; i < kCount; ++i) {
+    EXPECT_EQ(out[i].handshake, i + 1);
+    EXPECT_EQ(out[i].result, "COMPLETE");
+    // Each step's latency is printed and plausible (source -> reception, same host).
+    const auto total = json_field(out[i].line, "total_ms");
+    ASSERT_TRUE(total) << out[i].line;
+    EXPECT_GT(std::stod(*total), 0.0);
+    EXPECT_LT(std::stod(*total), 10000.0);
+  }
+  for (int i = 1; i <= kCount; ++i) {
+    const auto line = wait_outcome(*responder, i);
+    ASSERT_TRUE(line) << responder->transcript();
+    EXPECT_EQ(json_field(*line, "result"), "COMPLETE");
+  }
+  const auto summary = requester->lines().back();
+  EXPECT_EQ(json_field(summary, "event"), "summary") << summary;
+  EXPECT_EQ(json_field(summary, "complete"), std::to_string(kCount)) << summary;
+}
+
+TEST(Handshake, NotReadyResponderIsReportedWithItsOwnExitCode) {
+  constexpr int kDomain = 68;
+  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "cell",
+                                             "--service", "MATERIAL_LOAD", "--counterpart",
+                                             "robot-1", "--not-ready"});
+  auto requester = start_mtc("request", kDomain,
+                             {"--device", "robot-1", "--interface", "cell", "--service",
+                              "MATERIAL_LOAD", "--counterpart", "machine-1", "--timeout", "3s"});
+  ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 6) << requester->transcript();
+  const auto out = outcomes(*requester);
+  ASSERT_EQ(out.size(), 1u) << requester->transcript();
+  EXPECT_EQ(out[0].result, "NOT_READY");
+  // The request never went ACTIVE: Part 5 forbids requesting from a NOT_READY responder.
+  EXPECT_TRUE(transitions(*requester, 1).empty()) << requester->transcript();
+}
+
+TEST(Handshake, AbsentResponderTimesOut) {
+  constexpr int kDomain = 77;
+  auto requester = start_mtc("request", kDomain,
+                             {"--device", "robot-1", "--interface", "cell", "--service",
+                              "MATERIAL_LOAD", "--counterpart", "machine-1", "--timeout", "1s"});
+  ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 4) << requester->transcript();
+  const auto out = outcomes(*requester);
+  ASSERT_EQ(out.size(), 1u) << requester->transcript();
+  EXPECT_EQ(out[0].result, "TIMEOUT");
+}
+
+}  // namespace
+}  // namespace mtc::test

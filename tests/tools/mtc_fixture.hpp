@@ -1,0 +1,94 @@
+// Helpers shared by the cross-process tests: start `mtc` subcommands as
+// child processes (always with --json, so lines can be matched exactly) and
+// read the events they print.
+//
+// Domain ids (registry, tools tests own 60-79; each test case its own id so
+// ctest -j never lets two cases meet):
+//   60 every service          61 count in order         62 scenario 1
+//   63 scenario 2 (active)    64 scenario 2 (complete)  65 scenario 3
+//   66 scenario 4             67 scenario 5             68 responder NOT_READY
+//   69 SIGKILL responder      70 responder restarted    71 SIGSTOP requester
+//   72 packet loss            73 watch                  74 list
+//   75 signals                76 fail rate + seed       77 request timeout
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+
+namespace mtc::test {
+
+// Generous bounds: they only catch hangs, timing figures live in benchmarks.
+inline constexpr milliseconds kStartTimeout{20000};
+inline constexpr milliseconds kHandshakeTimeout{30000};
+
+// Argument list for `mtc <command> --domain <domain> --json <args...>`.
+inline std::vector<std::string> mtc_argv(const std::string& command, int domain,
+                                         std::vector<std::string> args) {
+  std::vector<std::string> argv = {MTC_CLI_PATH, command, "--domain", std::to_string(domain),
+                                   "--json"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return argv;
+}
+
+inline std::unique_ptr<ChildProcess> start_mtc(const std::string& command, int domain,
+                                               std::vector<std::string> args) {
+  return std::make_unique<ChildProcess>(mtc_argv(command, domain, std::move(args)));
+}
+
+// Starts `mtc respond` and waits until it announces itself READY.
+inline std::unique_ptr<ChildProcess> start_responder(int domain, std::vector<std::string> args) {
+  auto p = start_mtc("respond", domain, std::move(args));
+  const auto ready = p->wait_for_line({"\"event\":\"ready\""}, kStartTimeout);
+  EXPECT_TRUE(ready.has_value()) << p->transcript();
+  return p;
+}
+
+// One outcome line of `mtc request` or `mtc respond`.
+struct Outcome {
+  int handshake = 0;
+  std::string result;  // COMPLETE, FAIL, TIMEOUT, COMMS_LOST, NOT_READY
+  std::string reason;
+  std::string line;
+};
+
+inline std::vector<Outcome> outcomes(const ChildProcess& p) {
+  std::vector<Outcome> out;
+  for (const auto& line : p.lines()) {
+    if (json_field(line, "event") != std::optional<std::string>("outcome")) continue;
+    Outcome o;
+    o.handshake = std::stoi(json_field(line, "handshake").value_or("0"));
+    o.result = json_field(line, "result").value_or("");
+    o.reason = json_field(line, "reason").value_or("");
+    o.line = line;
+    out.push_back(o);
+  }
+  return out;
+}
+
+// "request:ACTIVE", "response:COMPLETE", ... of one handshake, in print order.
+inline std::vector<std::string> transitions(const ChildProcess& p, int handshake) {
+  std::vector<std::string> out;
+  for (const auto& line : p.lines()) {
+    if (json_field(line, "event") != std::optional<std::string>("transition")) continue;
+    if (json_field(line, "handshake") != std::optional<std::string>(std::to_string(handshake))) {
+      continue;
+    }
+    out.push_back(json_field(line, "side").value_or("?") + ":" +
+                  json_field(line, "state").value_or("?"));
+  }
+  return out;
+}
+
+// Waits for the outcome line of handshake n.
+inline std::optional<std::string> wait_outcome(ChildProcess& p, int n,
+                                               milliseconds timeout = kHandshakeTimeout) {
+  return p.wait_for_line({"\"event\":\"outcome\"", "\"handshake\":" + std::to_string(n) + ","},
+                         timeout);
+}
+
+}  // namespace mtc::test
