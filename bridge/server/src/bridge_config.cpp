@@ -1,0 +1,339 @@
+#include "mtc/bridge/bridge_config.hpp"
+
+#include <arpa/inet.h>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace mtc::bridge {
+namespace {
+
+using Setter = void (*)(BridgeConfig&, std::string_view value, const std::string& origin);
+
+// One row per setting: file key, command-line flag, help text.
+struct Setting {
+  std::string_view key;
+  std::string_view flag;
+  std::string_view help;
+  Setter set;
+};
+
+[[noreturn]] void fail(const std::string& origin, const std::string& message) {
+  throw ConfigError(origin + ": " + message);
+}
+
+std::string_view trim(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t\r");
+  if (first == std::string_view::npos) return {};
+  const auto last = text.find_last_not_of(" \t\r");
+  return text.substr(first, last - first + 1);
+}
+
+template <typename Int>
+Int parse_int(std::string_view value, Int min, Int max, const std::string& origin,
+              std::string_view what) {
+  Int result{};
+  const auto* end = value.data() + value.size();
+  const auto parsed = std::from_chars(value.data(), end, result);
+  if (value.empty() || parsed.ec != std::errc() || parsed.ptr != end || result < min ||
+      result > max) {
+    fail(origin, std::string(what) + " must be an integer from " + std::to_string(min) + " to " +
+                     std::to_string(max) + ", not '" + std::string(value) + "'");
+  }
+  return result;
+}
+
+std::chrono::milliseconds parse_ms(std::string_view value, long min, long max,
+                                   const std::string& origin, std::string_view what) {
+  return std::chrono::milliseconds(parse_int<long>(value, min, max, origin, what));
+}
+
+// Comma- and/or space-separated items, none empty.
+std::vector<std::string_view> split_list(std::string_view value) {
+  std::vector<std::string_view> items;
+  std::size_t start = 0;
+  while (start <= value.size()) {
+    const auto end = value.find_first_of(", \t", start);
+    const auto item = value.substr(start, end == std::string_view::npos ? end : end - start);
+    if (!item.empty()) items.push_back(item);
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return items;
+}
+
+// Drops a '#' comment; a '#' inside a double-quoted value is kept.
+std::string_view strip_comment(std::string_view line) {
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    if (line[i] == '"') quoted = !quoted;
+    if (line[i] == '#' && !quoted) return line.substr(0, i);
+  }
+  return line;
+}
+
+bool is_printable(std::string_view value) {
+  return std::all_of(value.begin(), value.end(),
+                     [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; });
+}
+
+void set_devices(BridgeConfig& c, std::string_view v, const std::string&) {
+  c.devices_file = std::string(v);
+}
+
+void set_server_ip(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  const std::string text(v);
+  std::array<unsigned char, 16> bytes{};
+  if (inet_pton(AF_INET, text.c_str(), bytes.data()) != 1 &&
+      inet_pton(AF_INET6, text.c_str(), bytes.data()) != 1) {
+    fail(origin, "ServerIp must be an IPv4 or IPv6 address, not '" + text + "'");
+  }
+  c.server_ip = text;
+}
+
+void set_port(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.port = parse_int<std::uint16_t>(v, 0, 65535, origin, "Port");
+}
+
+void set_buffer_size(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  // Like cppagent's BufferSize: an exponent, the buffer holds 2^n observations.
+  c.buffer_size_exponent = parse_int<unsigned>(v, 1, 30, origin, "BufferSize (exponent)");
+}
+
+void set_schema_version(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  const auto dot = v.find('.');
+  const bool shaped = dot != std::string_view::npos && dot > 0 && dot + 1 < v.size() &&
+                      std::all_of(v.begin(), v.end(), [](char ch) {
+                        return ch == '.' || (ch >= '0' && ch <= '9');
+                      }) &&
+                      v.find('.', dot + 1) == std::string_view::npos;
+  if (!shaped || (v.substr(0, dot) != "1" && v.substr(0, dot) != "2")) {
+    fail(origin, "SchemaVersion must look like 1.3 or 2.0, not '" + std::string(v) + "'");
+  }
+  c.schema_version = std::string(v);
+}
+
+void set_sender(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  if (!is_printable(v)) fail(origin, "Sender contains control characters");
+  c.sender = std::string(v);
+}
+
+void set_domain_ids(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  std::vector<int> ids;
+  for (auto item : split_list(v)) {
+    // 232 is the largest id the RTPS well-known port mapping allows.
+    const int id = parse_int<int>(item, 0, 232, origin, "each of DomainIds");
+    if (std::find(ids.begin(), ids.end(), id) != ids.end()) {
+      fail(origin, "DomainIds lists " + std::to_string(id) + " twice");
+    }
+    ids.push_back(id);
+  }
+  if (ids.empty()) fail(origin, "DomainIds needs at least one domain id");
+  c.domain_ids = std::move(ids);
+}
+
+void set_qos_profile(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  const bool ok = std::all_of(v.begin(), v.end(), [](char ch) {
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+           ch == '_' || ch == '-' || ch == '.';
+  });
+  if (!ok) fail(origin, "QosProfile must be a preset name, not '" + std::string(v) + "'");
+  c.qos_profile = std::string(v);
+}
+
+void set_device_filter(BridgeConfig& c, std::string_view v, const std::string&) {
+  c.device_filter.clear();
+  for (auto item : split_list(v)) c.device_filter.emplace_back(item);
+}
+
+void set_io_threads(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.io_threads = parse_int<unsigned>(v, 1, 64, origin, "IoThreads");
+}
+
+void set_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.heartbeat = parse_ms(v, 10, 3600000, origin, "HeartbeatMs");
+}
+
+void set_max_connections(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.max_connections = parse_int<std::size_t>(v, 1, 100000, origin, "MaxConnections");
+}
+
+void set_header_timeout(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.header_timeout = parse_ms(v, 100, 3600000, origin, "HeaderTimeoutMs");
+}
+
+void set_idle_timeout(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.idle_timeout = parse_ms(v, 100, 3600000, origin, "IdleTimeoutMs");
+}
+
+void set_write_timeout(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.write_timeout = parse_ms(v, 100, 3600000, origin, "WriteTimeoutMs");
+}
+
+constexpr std::array<Setting, 16> kSettings{{
+    {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
+     set_devices},
+    {"ServerIp", "--server-ip", "address to listen on (default 127.0.0.1)", set_server_ip},
+    {"Port", "--port", "HTTP port, 0 = any free port (default 5000)", set_port},
+    {"BufferSize", "--buffer-size", "observation buffer holds 2^n entries (default 17)",
+     set_buffer_size},
+    {"SchemaVersion", "--schema-version", "MTConnect schema version (default 2.0)",
+     set_schema_version},
+    {"Sender", "--sender", "Header sender name (default mtc-bridge)", set_sender},
+    {"DomainIds", "--domain-ids", "DDS domain ids to observe, e.g. 0,1 (default 0)",
+     set_domain_ids},
+    {"QosProfile", "--qos-profile", "mtc::qos preset of the state topics (default: the default)",
+     set_qos_profile},
+    {"DeviceFilter", "--device-filter", "only these device uuids (default: all)",
+     set_device_filter},
+    {"IoThreads", "--io-threads", "HTTP io threads (default 1)", set_io_threads},
+    {"WorkerThreads", "", "cppagent's name for IoThreads", set_io_threads},
+    {"HeartbeatMs", "--heartbeat-ms", "stream heartbeat when a request names none (default 10000)",
+     set_heartbeat},
+    {"MaxConnections", "--max-connections", "open connections; more get 503 (default 256)",
+     set_max_connections},
+    {"HeaderTimeoutMs", "--header-timeout-ms", "time to send a request header (default 10000)",
+     set_header_timeout},
+    {"IdleTimeoutMs", "--idle-timeout-ms", "keep-alive idle time before closing (default 30000)",
+     set_idle_timeout},
+    {"WriteTimeoutMs", "--write-timeout-ms", "time a client may take to read a write (default 30000)",
+     set_write_timeout},
+}};
+
+const Setting* find_key(std::string_view key) {
+  for (const auto& setting : kSettings) {
+    if (setting.key == key) return &setting;
+  }
+  return nullptr;
+}
+
+const Setting* find_flag(std::string_view flag) {
+  if (flag == "--bind") flag = "--server-ip";
+  for (const auto& setting : kSettings) {
+    if (!setting.flag.empty() && setting.flag == flag) return &setting;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+void apply_config_value(BridgeConfig& config, std::string_view key, std::string_view value,
+                        std::string_view origin) {
+  const std::string where(origin);
+  const Setting* setting = find_key(key);
+  if (setting == nullptr) fail(where, "unknown key '" + std::string(key) + "'");
+  if (value.empty()) fail(where, "empty value for " + std::string(key));
+  setting->set(config, value, where);
+}
+
+void parse_config_text(BridgeConfig& config, std::string_view text, std::string_view name) {
+  std::map<std::string, std::size_t, std::less<>> seen;  // key -> line
+  std::size_t number = 0;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    auto end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    ++number;
+    const std::string where = std::string(name) + ":" + std::to_string(number);
+    if (line.find('\0') != std::string_view::npos) fail(where, "binary data in config file");
+    line = trim(strip_comment(line));
+    if (line.empty()) continue;
+    if (line.find_first_of("{}") != std::string_view::npos) {
+      fail(where, "blocks ('Name { ... }') are not supported by mtc-bridge");
+    }
+    const auto eq = line.find('=');
+    if (eq == std::string_view::npos) fail(where, "expected 'Key = Value', got '" + std::string(line) + "'");
+    const auto key = trim(line.substr(0, eq));
+    auto value = trim(line.substr(eq + 1));
+    if (key.empty()) fail(where, "missing key before '='");
+    if (value.size() >= 2 && value.front() == '"' && value.back() == '"') {
+      value = value.substr(1, value.size() - 2);
+    }
+    if (auto it = seen.find(key); it != seen.end()) {
+      fail(where, std::string(key) + " is already set on line " + std::to_string(it->second));
+    }
+    seen.emplace(std::string(key), number);
+    apply_config_value(config, key, value, where);
+  }
+}
+
+void load_config_file(BridgeConfig& config, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path + ": cannot open config file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ConfigError(path + ": cannot read config file");
+  parse_config_text(config, text.str(), path);
+}
+
+CommandLine parse_command_line(int argc, const char* const* argv) {
+  CommandLine result;
+  std::vector<std::pair<const Setting*, std::string>> overrides;
+  for (int i = 1; i < argc; ++i) {
+    std::string_view arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      result.help = true;
+      continue;
+    }
+    if (arg.substr(0, 2) != "--") {
+      if (!result.config_file.empty()) fail(std::string(arg), "only one config file may be given");
+      result.config_file = std::string(arg);
+      continue;
+    }
+    std::string_view flag = arg;
+    std::string value;
+    bool has_value = false;
+    if (const auto eq = arg.find('='); eq != std::string_view::npos) {
+      flag = arg.substr(0, eq);
+      value = std::string(arg.substr(eq + 1));
+      has_value = true;
+    }
+    const Setting* setting = flag == "--config" ? nullptr : find_flag(flag);
+    if (flag != "--config" && setting == nullptr) {
+      fail(std::string(flag), "unknown option (see --help)");
+    }
+    if (!has_value) {
+      if (i + 1 >= argc) fail(std::string(flag), "needs a value");
+      value = argv[++i];
+    }
+    if (setting == nullptr) {
+      if (!result.config_file.empty()) fail("--config", "only one config file may be given");
+      result.config_file = value;
+    } else {
+      overrides.emplace_back(setting, std::move(value));
+    }
+  }
+  if (result.help) return result;
+  if (!result.config_file.empty()) load_config_file(result.config, result.config_file);
+  for (const auto& [setting, value] : overrides) {
+    apply_config_value(result.config, setting->key, value, setting->flag);
+  }
+  return result;
+}
+
+std::string usage_text(std::string_view program) {
+  std::ostringstream out;
+  out << "usage: " << program << " [--config agent.cfg] [options]\n\n"
+      << "Serves MTConnect probe/current/sample (HTTP, XML) for the MTConnect Part 5\n"
+      << "interfaces published on DDS. Options override the config file; each one\n"
+      << "matches a `Key = Value` line of the file.\n\n";
+  for (const auto& setting : kSettings) {
+    if (setting.flag.empty()) continue;
+    std::string left = "  " + std::string(setting.flag) + " VALUE";
+    left.resize(std::max<std::size_t>(left.size() + 1, 30), ' ');
+    out << left << std::string(setting.key) << ": " << setting.help << "\n";
+  }
+  out << "  --config FILE               agent.cfg-style file (`Key = Value`, # comments)\n"
+      << "  --bind VALUE                same as --server-ip\n"
+      << "  -h, --help                  this text\n\n"
+      << "Exit codes: 0 clean stop (SIGINT/SIGTERM), 1 runtime failure, 2 bad configuration.\n";
+  return out.str();
+}
+
+}  // namespace mtc::bridge

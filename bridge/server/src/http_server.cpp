@@ -1,0 +1,176 @@
+#include "mtc/bridge/http_server.hpp"
+
+#include <optional>
+#include <stdexcept>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include <boost/asio/executor_work_guard.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <boost/asio/strand.hpp>
+
+#include "session.hpp"
+
+namespace mtc::bridge {
+
+using detail::asio::ip::tcp;
+namespace asio = detail::asio;
+
+struct HttpServer::Impl {
+  Impl(std::shared_ptr<Agent> agent, ServerOptions options)
+      : ioc(static_cast<int>(options.io_threads == 0 ? 1 : options.io_threads)),
+        acceptor(ioc),
+        retry_timer(ioc),
+        shared(std::make_shared<detail::ServerShared>()) {
+    if (!agent) throw std::invalid_argument("HttpServer: no agent");
+    if (options.io_threads == 0) options.io_threads = 1;
+    shared->agent = std::move(agent);
+    shared->options = std::move(options);
+  }
+
+  void listen();
+  void accept();
+  void on_accept(const boost::system::error_code& ec, tcp::socket socket);
+
+  asio::io_context ioc;
+  tcp::acceptor acceptor;
+  asio::steady_timer retry_timer;  // backs off after accept errors (EMFILE)
+  std::shared_ptr<detail::ServerShared> shared;
+  std::optional<asio::executor_work_guard<asio::io_context::executor_type>> work;
+  std::vector<std::thread> threads;
+  std::uint16_t port = 0;
+  bool started = false;
+  bool stopped = false;
+};
+
+void HttpServer::Impl::listen() {
+  const auto& options = shared->options;
+  boost::system::error_code ec;
+  const auto address = asio::ip::make_address(options.bind_address, ec);
+  if (ec) {
+    throw std::system_error(ec, "invalid bind address '" + options.bind_address + "'");
+  }
+  const tcp::endpoint endpoint(address, options.port);
+  auto check = [&](const char* what) {
+    if (ec) {
+      throw std::system_error(ec, std::string(what) + " " + options.bind_address + ":" +
+                                      std::to_string(options.port));
+    }
+  };
+  acceptor.open(endpoint.protocol(), ec);
+  check("cannot open a socket for");
+  acceptor.set_option(asio::socket_base::reuse_address(true), ec);
+  check("cannot set SO_REUSEADDR on");
+  acceptor.bind(endpoint, ec);
+  check("cannot bind");
+  acceptor.listen(asio::socket_base::max_listen_connections, ec);
+  check("cannot listen on");
+  port = acceptor.local_endpoint().port();
+}
+
+void HttpServer::Impl::accept() {
+  // Each connection gets its own strand: its handlers never run
+  // concurrently, while different connections use every io thread.
+  acceptor.async_accept(asio::make_strand(ioc),
+                        [this](const boost::system::error_code& ec, tcp::socket socket) {
+                          on_accept(ec, std::move(socket));
+                        });
+}
+
+void HttpServer::Impl::on_accept(const boost::system::error_code& ec, tcp::socket socket) {
+  if (ec == asio::error::operation_aborted || shared->stopping) return;
+  if (ec) {
+    // Out of descriptors or a connection reset before accept: wait a bit
+    // instead of spinning, then keep serving.
+    retry_timer.expires_after(std::chrono::milliseconds(50));
+    retry_timer.async_wait([this](const boost::system::error_code& wait_ec) {
+      if (!wait_ec && !shared->stopping) accept();
+    });
+    return;
+  }
+  std::shared_ptr<detail::Session> session;
+  bool busy = false;
+  {
+    std::lock_guard<std::mutex> lock(shared->mutex);
+    busy = shared->sessions.size() >= shared->options.max_connections;
+    const std::uint64_t id = busy ? 0 : shared->next_id++;
+    session = std::make_shared<detail::Session>(std::move(socket), shared, id);
+    if (!busy) shared->sessions.emplace(id, session);
+  }
+  // Start on the connection's strand, not the acceptor's thread.
+  auto executor = session->executor();
+  asio::post(executor, [session, busy] {
+    if (busy) {
+      session->reject_busy();
+    } else {
+      session->start();
+    }
+  });
+  accept();
+}
+
+HttpServer::HttpServer(std::shared_ptr<Agent> agent, ServerOptions options)
+    : impl_(std::make_unique<Impl>(std::move(agent), std::move(options))) {
+  impl_->listen();
+}
+
+HttpServer::~HttpServer() { stop(); }
+
+void HttpServer::start() {
+  if (impl_->started) return;
+  impl_->started = true;
+  impl_->work.emplace(impl_->ioc.get_executor());
+  impl_->accept();
+  for (unsigned i = 0; i < impl_->shared->options.io_threads; ++i) {
+    impl_->threads.emplace_back([this] { impl_->ioc.run(); });
+  }
+}
+
+void HttpServer::stop() {
+  if (!impl_ || impl_->stopped) return;
+  impl_->stopped = true;
+  auto& shared = *impl_->shared;
+  shared.stopping = true;
+  asio::post(impl_->ioc, [impl = impl_.get()] {
+    boost::system::error_code ec;
+    impl->acceptor.close(ec);
+    impl->retry_timer.cancel();
+  });
+  std::vector<std::shared_ptr<detail::Session>> open;
+  {
+    std::lock_guard<std::mutex> lock(shared.mutex);
+    for (auto& entry : shared.sessions) {
+      if (auto session = entry.second.lock()) open.push_back(std::move(session));
+    }
+  }
+  for (auto& session : open) {
+    asio::post(session->executor(), [session] { session->shutdown(); });
+  }
+  open.clear();
+  // Sessions finish their last writes (bounded by timeouts); then run()
+  // returns because no work is left.
+  impl_->work.reset();
+  for (auto& thread : impl_->threads) thread.join();
+  impl_->threads.clear();
+  if (!impl_->started) {
+    boost::system::error_code ec;
+    impl_->acceptor.close(ec);
+  }
+}
+
+std::uint16_t HttpServer::port() const noexcept { return impl_->port; }
+
+const std::string& HttpServer::bind_address() const noexcept {
+  return impl_->shared->options.bind_address;
+}
+
+std::size_t HttpServer::connection_count() const noexcept {
+  std::lock_guard<std::mutex> lock(impl_->shared->mutex);
+  return impl_->shared->sessions.size();
+}
+
+}  // namespace mtc::bridge

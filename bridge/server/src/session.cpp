@@ -1,0 +1,400 @@
+#include "session.hpp"
+
+#include <array>
+#include <utility>
+
+#include <boost/asio/post.hpp>
+#include <boost/asio/write.hpp>
+#include <boost/beast/http/error.hpp>
+#include <boost/beast/http/read.hpp>
+
+#include "wire.hpp"
+
+namespace mtc::bridge::detail {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Bytes read per wait for a new request; requests are small.
+constexpr std::size_t kReadChunk = 4096;
+// How long a connection we answered with an error may keep sending before
+// we close it; draining first keeps the error from being lost to a reset.
+constexpr std::chrono::milliseconds kLingerTimeout{1000};
+constexpr std::size_t kLingerLimit = 64 * 1024;
+// Final boundary of a stream at shutdown: a client that does not take it
+// quickly is simply closed.
+constexpr std::chrono::milliseconds kStreamEndTimeout{1000};
+
+bool is_quiet_close(const beast::error_code& ec) {
+  return ec == http::error::end_of_stream || ec == http::error::partial_message ||
+         ec == asio::error::eof || ec == asio::error::connection_reset ||
+         ec == asio::error::operation_aborted || ec == beast::error::timeout ||
+         ec == asio::error::broken_pipe || ec == asio::error::bad_descriptor;
+}
+
+}  // namespace
+
+struct Session::Stream {
+  explicit Stream(const asio::any_io_executor& executor) : timer(executor) {}
+  StreamPlan plan;
+  std::string boundary;
+  asio::steady_timer timer;
+  Clock::time_point armed_for = Clock::time_point::max();
+  Clock::time_point last_part{};
+  std::uint64_t subscription = 0;
+  bool subscribed = false;
+  bool writing = false;
+  bool ending = false;        // shutdown asked for the final boundary
+  bool ended = false;         // the final boundary is on its way
+  bool stop_after_write = false;  // the agent answered an error part
+  std::atomic<bool> wake_pending{false};
+  std::array<char, 256> sink{};  // client bytes while streaming, discarded
+};
+
+Session::Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::uint64_t id)
+    : shared_(std::move(shared)), id_(id), stream_(std::move(socket)) {
+  beast::error_code ec;
+  stream_.socket().set_option(tcp::no_delay(true), ec);  // best effort
+}
+
+Session::~Session() {
+  if (stream_state_ && stream_state_->subscribed) {
+    shared_->agent->unsubscribe(stream_state_->subscription);
+  }
+  std::lock_guard<std::mutex> lock(shared_->mutex);
+  shared_->sessions.erase(id_);
+}
+
+void Session::start() {
+  if (shared_->stopping) {
+    close();
+    return;
+  }
+  wait_for_request();
+}
+
+// Waits for the first byte of the next request under the idle timeout (the
+// header timeout for a new connection), then parses under the header timeout.
+void Session::wait_for_request() {
+  if (buffer_.size() > 0) {  // pipelined request already here
+    read_header();
+    return;
+  }
+  const auto& options = shared_->options;
+  stream_.expires_after(first_request_ ? options.header_timeout : options.idle_timeout);
+  stream_.async_read_some(
+      buffer_.prepare(kReadChunk),
+      [self = shared_from_this()](beast::error_code ec, std::size_t bytes) {
+        if (ec) {
+          self->close();
+          return;
+        }
+        self->buffer_.commit(bytes);
+        self->read_header();
+      });
+}
+
+void Session::read_header() {
+  parser_.emplace();
+  parser_->header_limit(static_cast<std::uint32_t>(shared_->options.header_limit));
+  stream_.expires_after(shared_->options.header_timeout);
+  http::async_read_header(stream_, buffer_, *parser_,
+                          [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                            self->on_header(ec);
+                          });
+}
+
+void Session::on_header(beast::error_code ec) {
+  first_request_ = false;
+  if (!ec) {
+    handle_request();
+    return;
+  }
+  if (is_quiet_close(ec) || closed_) {
+    close();  // client went away or stalled: nobody to answer
+  } else if (ec == http::error::header_limit || ec == http::error::buffer_overflow) {
+    answer_error(431, "INVALID_REQUEST", "request line and headers exceed the size limit");
+  } else if (ec.category() == http::make_error_code(http::error::bad_target).category()) {
+    answer_error(400, "INVALID_REQUEST", "malformed HTTP request: " + ec.message());
+  } else {
+    close();
+  }
+}
+
+void Session::handle_request() {
+  const auto& request = parser_->get();
+  version_ = request.version() == 10 ? 10 : 11;
+  if (request.version() != 10 && request.version() != 11) {
+    answer_error(505, "INVALID_REQUEST", "only HTTP/1.0 and HTTP/1.1 are served");
+    return;
+  }
+  const bool head_only = request.method() == http::verb::head;
+  const std::string_view method = head_only ? std::string_view("GET")
+                                            : std::string_view(request.method_string().data(),
+                                                               request.method_string().size());
+  const std::string_view target(request.target().data(), request.target().size());
+  bool keep_alive = request.keep_alive();
+
+  // The agent is read-only: a request body is never read. GET with one is
+  // refused; other methods still get the agent's UNSUPPORTED answer.
+  if (!parser_->is_done()) {
+    keep_alive = false;
+    if (method == "GET") {
+      answer_error(413, "INVALID_REQUEST", "requests to this agent carry no body");
+      return;
+    }
+  }
+
+  Routed routed = shared_->agent->route(method, target);
+  if (routed.stream && !head_only && !shared_->stopping) {
+    start_stream(std::move(*routed.stream));
+  } else if (routed.stream) {
+    Response response;  // HEAD of a stream: headers only, then close
+    answer(std::move(response), false, true);
+  } else if (routed.response) {
+    answer(std::move(*routed.response), keep_alive && !shared_->stopping, head_only);
+  } else {
+    answer_error(500, "INTERNAL_ERROR", "the agent produced no answer");
+  }
+}
+
+void Session::answer(Response response, bool keep_alive, bool head_only) {
+  body_ = std::move(response.body);
+  HeadFields fields;
+  fields.status = response.status;
+  fields.version = version_;
+  fields.content_type = response.content_type;
+  fields.content_length = body_.size();
+  fields.keep_alive = keep_alive;
+  fields.server_name = shared_->options.server_name;
+  write_head(head_, fields);
+  if (head_only) body_.clear();
+
+  stream_.expires_after(shared_->options.write_timeout);
+  const std::array<asio::const_buffer, 2> buffers{asio::buffer(head_), asio::buffer(body_)};
+  asio::async_write(stream_, buffers,
+                    [self = shared_from_this(), keep_alive](beast::error_code ec, std::size_t) {
+                      self->on_answered(ec, keep_alive);
+                    });
+}
+
+void Session::answer_error(int status, std::string_view code, std::string_view message) {
+  Response response;
+  if (shared_->options.error_document) {
+    response = shared_->options.error_document(status, code, message);
+    response.status = status;
+  } else {
+    response.status = status;
+    response.content_type = "text/plain";
+    response.body = std::string(code) + ": " + std::string(message) + "\n";
+  }
+  answer(std::move(response), false, false);
+}
+
+void Session::on_answered(beast::error_code ec, bool keep_alive) {
+  if (ec) {
+    close();
+  } else if (keep_alive && !shared_->stopping) {
+    wait_for_request();
+  } else {
+    linger_close();
+  }
+}
+
+// Half-closes, then discards what the client still sends (bounded in time
+// and bytes) so the kernel does not reset the connection under our answer.
+void Session::linger_close() {
+  if (!lingering_) {
+    lingering_ = true;
+    linger_deadline_ = Clock::now() + kLingerTimeout;
+    beast::error_code ec;
+    stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+    if (ec) {
+      close();
+      return;
+    }
+  }
+  lingered_ += buffer_.size();
+  buffer_.consume(buffer_.size());
+  if (lingered_ > kLingerLimit) {
+    close();
+    return;
+  }
+  stream_.expires_at(linger_deadline_);
+  stream_.async_read_some(buffer_.prepare(kReadChunk),
+                          [self = shared_from_this()](beast::error_code read_ec, std::size_t n) {
+                            if (read_ec) {
+                              self->close();
+                              return;
+                            }
+                            self->buffer_.commit(n);
+                            self->linger_close();
+                          });
+}
+
+void Session::close() {
+  if (closed_) return;
+  closed_ = true;
+  if (stream_state_) {
+    stream_state_->timer.cancel();
+    if (stream_state_->subscribed) {
+      shared_->agent->unsubscribe(stream_state_->subscription);
+      stream_state_->subscribed = false;
+    }
+  }
+  beast::error_code ec;
+  stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
+  stream_.close();
+}
+
+void Session::reject_busy() {
+  first_request_ = false;
+  answer_error(503, "INTERNAL_ERROR", "too many connections; try again later");
+}
+
+void Session::shutdown() {
+  if (closed_) return;
+  if (!stream_state_) {
+    close();
+    return;
+  }
+  auto& state = *stream_state_;
+  state.ending = true;
+  if (!state.writing) {
+    write_stream_end();
+    return;
+  }
+  // A part is on its way; the boundary follows it unless the client is too
+  // slow to take it, in which case the connection is simply closed.
+  state.timer.expires_after(kStreamEndTimeout);
+  state.timer.async_wait([self = shared_from_this()](beast::error_code ec) {
+    if (!ec) self->close();
+  });
+}
+
+// ---- streaming -------------------------------------------------------------
+
+void Session::start_stream(StreamPlan plan) {
+  stream_state_ = std::make_unique<Stream>(stream_.get_executor());
+  auto& state = *stream_state_;
+  state.plan = std::move(plan);
+  state.boundary = make_boundary();
+  // The producer thread only flips a flag and posts; all work happens here.
+  std::weak_ptr<Session> weak = shared_from_this();
+  state.subscription = shared_->agent->subscribe([weak] {
+    if (auto self = weak.lock()) {
+      if (!self->stream_state_->wake_pending.exchange(true)) {
+        asio::post(self->stream_.get_executor(), [self] { self->on_wake(); });
+      }
+    }
+  });
+  state.subscribed = true;
+
+  stream_.expires_never();
+  read_until_eof();  // notices a client that hangs up between parts
+  write_stream_head(head_, state.boundary, shared_->options.server_name);
+  write_part();  // head and first part leave together
+}
+
+void Session::read_until_eof() {
+  auto& sink = stream_state_->sink;
+  stream_.async_read_some(asio::buffer(sink),
+                          [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                            if (ec) {
+                              self->close();
+                              return;
+                            }
+                            self->read_until_eof();
+                          });
+}
+
+void Session::on_wake() {
+  if (!stream_state_) return;
+  stream_state_->wake_pending.store(false);
+  pump();
+}
+
+// Decides when the next part is due: new data, no sooner than `interval`
+// after the last part; with nothing new, a heartbeat after `heartbeat`;
+// /current?interval parts come every interval regardless.
+void Session::pump() {
+  if (closed_ || !stream_state_) return;
+  auto& state = *stream_state_;
+  if (state.writing || state.ended) return;
+  if (state.ending) {
+    write_stream_end();
+    return;
+  }
+  const bool has_data = shared_->agent->next_sequence() > state.plan.next_sequence;
+  const bool periodic = !state.plan.is_sample && state.plan.interval.count() > 0;
+  const auto wait = (has_data || periodic) ? state.plan.interval : state.plan.heartbeat;
+  const auto due = state.last_part + wait;
+  if (Clock::now() >= due) {
+    write_part();
+  } else {
+    arm_timer(due);
+  }
+}
+
+void Session::arm_timer(Clock::time_point due) {
+  auto& state = *stream_state_;
+  if (state.armed_for == due) return;
+  state.armed_for = due;
+  state.timer.expires_at(due);
+  state.timer.async_wait([self = shared_from_this()](beast::error_code ec) {
+    if (ec == asio::error::operation_aborted) return;
+    self->stream_state_->armed_for = Clock::time_point::max();
+    self->pump();
+  });
+}
+
+void Session::write_part() {
+  auto& state = *stream_state_;
+  Response part = shared_->agent->next_part(state.plan);
+  // An error part (e.g. the client fell out of the buffer) ends the stream.
+  state.stop_after_write = part.status != 200;
+  body_ = std::move(part.body);
+  // Appends: the first part leaves together with the stream head.
+  write_part_head(head_, state.boundary, part.content_type, body_.size());
+
+  state.writing = true;
+  stream_.expires_after(shared_->options.write_timeout);  // read side stays unbounded
+  const std::array<asio::const_buffer, 3> buffers{
+      asio::buffer(head_), asio::buffer(body_),
+      asio::buffer(kPartTail.data(), kPartTail.size())};
+  asio::async_write(stream_, buffers,
+                    [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                      self->on_part_written(ec, false);
+                    });
+}
+
+void Session::write_stream_end() {
+  auto& state = *stream_state_;
+  state.ended = true;
+  state.writing = true;
+  state.timer.cancel();
+  detail::write_stream_end(head_, state.boundary);
+  stream_.expires_after(kStreamEndTimeout);
+  asio::async_write(stream_, asio::buffer(head_),
+                    [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                      self->on_part_written(ec, true);
+                    });
+}
+
+void Session::on_part_written(beast::error_code ec, bool last) {
+  auto& state = *stream_state_;
+  state.writing = false;
+  head_.clear();
+  if (ec || last) {
+    close();
+    return;
+  }
+  if (state.stop_after_write) {
+    write_stream_end();
+    return;
+  }
+  state.last_part = Clock::now();
+  pump();
+}
+
+}  // namespace mtc::bridge::detail

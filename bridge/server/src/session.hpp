@@ -1,0 +1,95 @@
+// One client connection: reads requests under strict limits, answers them
+// through the Agent, and turns a StreamPlan into a chunked multipart stream.
+// Every handler of a session runs on that session's strand.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+#include <boost/asio/steady_timer.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/http/empty_body.hpp>
+#include <boost/beast/http/parser.hpp>
+
+#include "mtc/bridge/http_server.hpp"
+
+namespace mtc::bridge::detail {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+using tcp = asio::ip::tcp;
+
+class Session;
+
+// What every session of one server shares; outlives them all.
+struct ServerShared {
+  std::shared_ptr<Agent> agent;
+  ServerOptions options;
+  std::atomic<bool> stopping{false};
+
+  std::mutex mutex;  // guards sessions
+  std::unordered_map<std::uint64_t, std::weak_ptr<Session>> sessions;
+  std::uint64_t next_id = 1;
+};
+
+class Session : public std::enable_shared_from_this<Session> {
+ public:
+  Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::uint64_t id);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  void start();        // serve requests
+  void reject_busy();  // answer 503 and close (over the connection limit)
+  void shutdown();     // server stop: end a stream with its boundary, close
+
+  // The connection's strand.
+  asio::any_io_executor executor() { return stream_.get_executor(); }
+
+ private:
+  struct Stream;
+
+  void wait_for_request();
+  void read_header();
+  void on_header(beast::error_code ec);
+  void handle_request();
+  void answer(Response response, bool keep_alive, bool head_only);
+  void answer_error(int status, std::string_view code, std::string_view message);
+  void on_answered(beast::error_code ec, bool keep_alive);
+  void linger_close();
+  void close();
+
+  void start_stream(StreamPlan plan);
+  void read_until_eof();
+  void on_wake();
+  void pump();
+  void arm_timer(std::chrono::steady_clock::time_point due);
+  void write_part();
+  void write_stream_end();
+  void on_part_written(beast::error_code ec, bool last);
+
+  std::shared_ptr<ServerShared> shared_;
+  std::uint64_t id_;
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::empty_body>> parser_;
+  unsigned version_ = 11;
+  bool first_request_ = true;
+  bool closed_ = false;
+  bool lingering_ = false;
+  std::size_t lingered_ = 0;
+  std::chrono::steady_clock::time_point linger_deadline_{};
+  std::string head_;  // response header / chunk framing, reused
+  std::string body_;
+  std::unique_ptr<Stream> stream_state_;
+};
+
+}  // namespace mtc::bridge::detail

@@ -1,0 +1,192 @@
+// agent.cfg-style configuration and command-line flags: valid files, a
+// table of malformed ones (each must name its line), and flag precedence.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "mtc/bridge/bridge_config.hpp"
+
+namespace mtc::bridge {
+namespace {
+
+using namespace std::chrono_literals;
+
+BridgeConfig parse(const std::string& text) {
+  BridgeConfig config;
+  parse_config_text(config, text, "agent.cfg");
+  return config;
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const ConfigError& error) {
+    return error.what();
+  }
+  return "(no error)";
+}
+
+TEST(BridgeConfig, DefaultsMatchTheDocumentation) {
+  const BridgeConfig config;
+  EXPECT_EQ(config.server_ip, "127.0.0.1");
+  EXPECT_EQ(config.port, 5000);
+  EXPECT_EQ(config.buffer_size_exponent, 17U);
+  EXPECT_EQ(config.schema_version, "2.0");
+  EXPECT_EQ(config.domain_ids, std::vector<int>{0});
+  EXPECT_EQ(config.io_threads, 1U);
+  EXPECT_EQ(config.heartbeat, 10000ms);
+}
+
+TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
+  const auto config = parse(
+      "# cell 3 bridge\n"
+      "Devices = /etc/mtc/Devices.xml\n"
+      "ServerIp = ::1\n"
+      "Port = 5001   # next to the legacy agent\n"
+      "BufferSize = 12\n"
+      "SchemaVersion = 1.8\n"
+      "Sender = \"cell #3\"\n"
+      "\n"
+      "   DomainIds = 3, 4 7\n"
+      "QosProfile = interface_state\n"
+      "DeviceFilter = robot-1,mill-2\n"
+      "WorkerThreads = 2\r\n"
+      "HeartbeatMs = 500\n"
+      "MaxConnections = 10\n"
+      "HeaderTimeoutMs = 2000\n"
+      "IdleTimeoutMs = 3000\n"
+      "WriteTimeoutMs = 4000");
+  EXPECT_EQ(config.devices_file, "/etc/mtc/Devices.xml");
+  EXPECT_EQ(config.server_ip, "::1");
+  EXPECT_EQ(config.port, 5001);
+  EXPECT_EQ(config.buffer_size_exponent, 12U);
+  EXPECT_EQ(config.schema_version, "1.8");
+  EXPECT_EQ(config.sender, "cell #3");
+  EXPECT_EQ(config.domain_ids, (std::vector<int>{3, 4, 7}));
+  EXPECT_EQ(config.qos_profile, "interface_state");
+  EXPECT_EQ(config.device_filter, (std::vector<std::string>{"robot-1", "mill-2"}));
+  EXPECT_EQ(config.io_threads, 2U);
+  EXPECT_EQ(config.heartbeat, 500ms);
+  EXPECT_EQ(config.max_connections, 10U);
+  EXPECT_EQ(config.header_timeout, 2000ms);
+  EXPECT_EQ(config.idle_timeout, 3000ms);
+  EXPECT_EQ(config.write_timeout, 4000ms);
+}
+
+struct Malformed {
+  const char* text;
+  const char* expected;  // substring of the message, including the line
+};
+
+class MalformedConfig : public ::testing::TestWithParam<Malformed> {};
+
+TEST_P(MalformedConfig, IsRejectedNamingTheLine) {
+  const auto message = error_of(GetParam().text);
+  EXPECT_NE(message.find(GetParam().expected), std::string::npos)
+      << "message: " << message << "\nconfig: " << GetParam().text;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, MalformedConfig,
+    ::testing::Values(
+        Malformed{"Prot = 5000", "agent.cfg:1: unknown key 'Prot'"},
+        Malformed{"Port = 5000\nPort 5001", "agent.cfg:2: expected 'Key = Value'"},
+        Malformed{"Port = 70000", "agent.cfg:1: Port must be an integer from 0 to 65535"},
+        Malformed{"Port = 50x", "agent.cfg:1: Port must be an integer"},
+        Malformed{"Port = -1", "agent.cfg:1: Port"},
+        Malformed{"Port =", "agent.cfg:1: empty value for Port"},
+        Malformed{"= 5", "agent.cfg:1: missing key"},
+        Malformed{"\n\nPort = 1\nPort = 2", "agent.cfg:4: Port is already set on line 3"},
+        Malformed{"BufferSize = 0", "agent.cfg:1: BufferSize (exponent) must be"},
+        Malformed{"BufferSize = 131072", "agent.cfg:1: BufferSize (exponent) must be"},
+        Malformed{"SchemaVersion = 2", "agent.cfg:1: SchemaVersion must look like"},
+        Malformed{"SchemaVersion = 7.0", "agent.cfg:1: SchemaVersion"},
+        Malformed{"SchemaVersion = 2.0.1", "agent.cfg:1: SchemaVersion"},
+        Malformed{"ServerIp = localhost", "agent.cfg:1: ServerIp must be an IPv4 or IPv6"},
+        Malformed{"ServerIp = 300.1.1.1", "agent.cfg:1: ServerIp"},
+        Malformed{"DomainIds = 1,,x", "agent.cfg:1: each of DomainIds"},
+        Malformed{"DomainIds = 233", "agent.cfg:1: each of DomainIds must be an integer from 0 to 232"},
+        Malformed{"DomainIds = 4, 4", "agent.cfg:1: DomainIds lists 4 twice"},
+        Malformed{"DomainIds = ,", "agent.cfg:1: DomainIds needs at least one"},
+        Malformed{"QosProfile = a b", "agent.cfg:1: QosProfile must be a preset name"},
+        Malformed{"IoThreads = 0", "agent.cfg:1: IoThreads"},
+        Malformed{"HeartbeatMs = 1", "agent.cfg:1: HeartbeatMs"},
+        Malformed{"MaxConnections = 0", "agent.cfg:1: MaxConnections"},
+        Malformed{"HeaderTimeoutMs = 10s", "agent.cfg:1: HeaderTimeoutMs"},
+        Malformed{"Adapters {\n  A { Host = x }\n}", "agent.cfg:1: blocks"},
+        Malformed{"# ok\nAllowPut = true", "agent.cfg:2: unknown key 'AllowPut'"},
+        Malformed{"Sender = a\x01z", "agent.cfg:1: Sender contains control"}));
+
+TEST(BridgeConfig, BinaryDataIsRejected) {
+  EXPECT_NE(error_of(std::string("Port = 5\0\x7f\n", 10)).find("agent.cfg:1: binary data"),
+            std::string::npos);
+}
+
+TEST(BridgeConfig, MissingFileIsAClearError) {
+  BridgeConfig config;
+  try {
+    load_config_file(config, "/nonexistent/agent.cfg");
+    FAIL() << "no error";
+  } catch (const ConfigError& error) {
+    EXPECT_STREQ(error.what(), "/nonexistent/agent.cfg: cannot open config file");
+  }
+}
+
+class CommandLineTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = ::testing::TempDir() + "bridge_http_agent.cfg";
+    std::ofstream(path_) << "Port = 6000\nDomainIds = 81\nSender = file\n";
+  }
+  void TearDown() override { std::remove(path_.c_str()); }
+
+  static CommandLine run(std::vector<const char*> args) {
+    args.insert(args.begin(), "mtc-bridge");
+    return parse_command_line(static_cast<int>(args.size()), args.data());
+  }
+  std::string path_;
+};
+
+TEST_F(CommandLineTest, FlagsOverrideTheFileWhateverTheOrder) {
+  const auto line = run({"--port", "6001", "--config", path_.c_str(), "--sender=flag"});
+  EXPECT_EQ(line.config_file, path_);
+  EXPECT_EQ(line.config.port, 6001);
+  EXPECT_EQ(line.config.sender, "flag");
+  EXPECT_EQ(line.config.domain_ids, std::vector<int>{81});
+}
+
+TEST_F(CommandLineTest, ALoneArgumentIsTheConfigFile) {
+  EXPECT_EQ(run({path_.c_str()}).config.port, 6000);
+  EXPECT_EQ(run({"--bind", "127.0.0.2", path_.c_str()}).config.server_ip, "127.0.0.2");
+}
+
+TEST_F(CommandLineTest, HelpNeedsNoValidConfig) {
+  EXPECT_TRUE(run({"--help", "--config", "/nonexistent"}).help);
+  const auto text = usage_text("mtc-bridge");
+  for (const char* flag : {"--port", "--server-ip", "--domain-ids", "--devices", "--io-threads",
+                           "--heartbeat-ms", "--config"}) {
+    EXPECT_NE(text.find(flag), std::string::npos) << flag;
+  }
+}
+
+TEST_F(CommandLineTest, BadFlagsNameTheFlag) {
+  auto message_of = [](std::vector<const char*> args) -> std::string {
+    try {
+      run(std::move(args));
+    } catch (const ConfigError& error) {
+      return error.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_EQ(message_of({"--prot", "1"}), "--prot: unknown option (see --help)");
+  EXPECT_EQ(message_of({"--port"}), "--port: needs a value");
+  EXPECT_EQ(message_of({"--port", "x"}),
+            "--port: Port must be an integer from 0 to 65535, not 'x'");
+  EXPECT_EQ(message_of({"a.cfg", "b.cfg"}), "b.cfg: only one config file may be given");
+}
+
+}  // namespace
+}  // namespace mtc::bridge
