@@ -1,0 +1,292 @@
+// Every (state, event) pair of the responder machine (Table 6), under the
+// 1.6/1.8 profile and the 1.3 profile.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "table_expectations.hpp"
+
+namespace mtc::core::testing_support {
+namespace {
+
+using E = Event;
+using S = InteractionState;
+using N = Notice;
+using R = Reason;
+
+std::vector<Expect> with(std::vector<Expect> rows, const std::vector<Expect>& more) {
+  rows.insert(rows.end(), more.begin(), more.end());
+  return rows;
+}
+
+std::vector<Expect> quiet_timers(S s) {
+  return {both(E::ResponseTimeout, s, N::None), both(E::ServiceTimeout, s, N::None),
+          both(E::CompletionAckTimeout, s, N::None), both(E::FailAckTimeout, s, N::None),
+          both(E::FailResetTimeout, s, N::None)};
+}
+
+// Commands and observations with the same outcome in READY whether or not
+// the request is ACTIVE.
+std::vector<Expect> ready_common() {
+  return {
+      both(E::Request, S::Ready, N::Rejected, R::WrongRole),
+      both(E::Complete, S::Ready, N::Rejected, R::NotActive),
+      both(E::Fail, S::Fail, N::Failed, R::Application),
+      both(E::RecoverReady, S::Ready, N::Rejected, R::NotFailed),
+      both(E::RecoverNotReady, S::Ready, N::Rejected, R::NotFailed),
+      both(E::SetReady, S::Ready, N::None),
+      // Table 6 READY: "If the Responder is not ready ... MUST transition to NOT_READY".
+      both(E::SetNotReady, S::NotReady, N::ReadinessChanged, R::Application),
+      both(E::Disable, S::NotReady, N::Disabled, R::InterfaceDisabled),
+      both(E::Enable, S::Ready, N::None),
+      both(E::Reevaluate, S::Ready, N::None),
+      // A REQUEST has no COMPLETE (Table 5).
+      both(E::SeenComplete, S::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+      // Table 6 condition 2 (both editions).
+      both(E::SeenFail, S::Fail, N::CounterpartFailed, R::CounterpartFail),
+      differ(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost,
+             S::Ready, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
+  };
+}
+
+std::vector<SetupExpectations> responder_expectations() {
+  std::vector<SetupExpectations> all;
+  // READY, request READY.
+  all.push_back({Setup::Ready, with(with(ready_common(), {
+      // Table 6 ACTIVE: MUST NOT go ACTIVE unless the request is ACTIVE.
+      both(E::Accept, S::Ready, N::Rejected, R::RequestNotActive),
+      both(E::SeenNotReady, S::Ready, N::None),
+      both(E::SeenReady, S::Ready, N::None),
+      both(E::SeenActive, S::Ready, N::RequestObserved),  // Table 1 step 2
+  }), quiet_timers(S::Ready))});
+
+  // READY, request ACTIVE (step 2 done, waiting for the application).
+  all.push_back({Setup::ResponderReadyRequestActive, with(with(ready_common(), {
+      both(E::Accept, S::Active, N::Accepted),  // step 3
+      both(E::SeenNotReady, S::Ready, N::None),
+      both(E::SeenReady, S::Ready, N::None),
+      both(E::SeenActive, S::Ready, N::None),
+  }), quiet_timers(S::Ready))});
+
+  // NOT_READY by the application's wish, request READY.
+  all.push_back({Setup::NotReady, with({
+      both(E::Request, S::NotReady, N::Rejected, R::WrongRole),
+      both(E::Accept, S::NotReady, N::Rejected, R::NotReady),
+      both(E::Complete, S::NotReady, N::Rejected, R::NotActive),
+      both(E::Fail, S::Fail, N::Failed, R::Application),
+      both(E::RecoverReady, S::NotReady, N::Rejected, R::NotFailed),
+      both(E::RecoverNotReady, S::NotReady, N::Rejected, R::NotFailed),
+      both(E::SetReady, S::Ready, N::ReadinessChanged, R::Application),
+      both(E::SetNotReady, S::NotReady, N::None),
+      both(E::Disable, S::NotReady, N::Disabled, R::InterfaceDisabled),
+      both(E::Enable, S::NotReady, N::None),
+      both(E::Reevaluate, S::NotReady, N::None),
+      both(E::SeenNotReady, S::NotReady, N::None),
+      both(E::SeenReady, S::NotReady, N::None),
+      // Reported so the application knows the request is being ignored.
+      both(E::SeenActive, S::NotReady, N::RequestObserved, R::NotReady),
+      both(E::SeenComplete, S::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+      both(E::SeenFail, S::Fail, N::CounterpartFailed, R::CounterpartFail),
+      differ(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost,
+             S::NotReady, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
+  }, quiet_timers(S::NotReady))});
+
+  // ACTIVE, request ACTIVE: performing the service.
+  all.push_back({Setup::Active, {
+      both(E::Request, S::Active, N::Rejected, R::WrongRole),
+      both(E::Accept, S::Active, N::Rejected, R::AlreadyActive),
+      both(E::Complete, S::Complete, N::Completed),  // step 4
+      both(E::Fail, S::Fail, N::Failed, R::Application),  // scenario 2
+      both(E::RecoverReady, S::Active, N::Rejected, R::NotFailed),
+      both(E::RecoverNotReady, S::Active, N::Rejected, R::NotFailed),
+      both(E::SetReady, S::Active, N::Rejected, R::NotIdle),
+      both(E::SetNotReady, S::Active, N::Rejected, R::NotIdle),
+      both(E::Disable, S::NotReady, N::Disabled, R::InterfaceDisabled),
+      both(E::Enable, S::Active, N::None),
+      both(E::Reevaluate, S::Active, N::None),
+      // Scenario 4 and its NOT_READY note; 1.3 device with no FAIL state.
+      both(E::SeenNotReady, S::Fail, N::CounterpartFailed, R::CounterpartLeftActive),
+      both(E::SeenReady, S::Fail, N::CounterpartFailed, R::CounterpartLeftActive),
+      both(E::SeenActive, S::Active, N::None),
+      both(E::SeenComplete, S::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+      both(E::SeenFail, S::Fail, N::CounterpartFailed, R::CounterpartFail),  // scenario 3
+      both(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost),      // scenario 6
+      both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
+      both(E::ResponseTimeout, S::Active, N::None),
+      both(E::ServiceTimeout, S::Fail, N::TimedOut, R::ServiceTimeout),
+      both(E::CompletionAckTimeout, S::Active, N::None),
+      both(E::FailAckTimeout, S::Active, N::None),
+      both(E::FailResetTimeout, S::Active, N::None),
+  }});
+
+  // COMPLETE, request still ACTIVE.
+  all.push_back({Setup::Complete, {
+      both(E::Request, S::Complete, N::Rejected, R::WrongRole),
+      both(E::Accept, S::Complete, N::Rejected, R::NotIdle),
+      both(E::Complete, S::Complete, N::Rejected, R::NotActive),
+      both(E::Fail, S::Fail, N::Failed, R::Application),
+      both(E::RecoverReady, S::Complete, N::Rejected, R::NotFailed),
+      both(E::RecoverNotReady, S::Complete, N::Rejected, R::NotFailed),
+      // MUST remain COMPLETE until the request acknowledges.
+      both(E::SetReady, S::Complete, N::None),
+      both(E::SetNotReady, S::Complete, N::None),
+      both(E::Disable, S::NotReady, N::Disabled, R::InterfaceDisabled),
+      both(E::Enable, S::Complete, N::None),
+      both(E::Reevaluate, S::Complete, N::None),
+      both(E::SeenNotReady, S::Ready, N::Acknowledged),
+      both(E::SeenReady, S::Ready, N::Acknowledged),  // steps 7-8
+      both(E::SeenActive, S::Complete, N::None),
+      both(E::SeenComplete, S::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+      both(E::SeenFail, S::Fail, N::CounterpartFailed, R::CounterpartFail),
+      both(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
+      both(E::ResponseTimeout, S::Complete, N::None),
+      both(E::ServiceTimeout, S::Complete, N::None),
+      both(E::CompletionAckTimeout, S::Complete, N::TimedOut, R::CompletionAckTimeout),
+      both(E::FailAckTimeout, S::Complete, N::None),
+      both(E::FailResetTimeout, S::Complete, N::None),
+  }});
+
+  // FAIL by own failure, request READY. Under 1.3 a request out of ACTIVE
+  // already acknowledges the response's FAIL.
+  all.push_back({Setup::Fail, {
+      both(E::Request, S::Fail, N::Rejected, R::WrongRole),
+      both(E::Accept, S::Fail, N::Rejected, R::AlreadyFailed),
+      both(E::Complete, S::Fail, N::Rejected, R::NotActive),
+      both(E::Fail, S::Fail, N::Rejected, R::AlreadyFailed),
+      differ(E::RecoverReady, S::Fail, N::Rejected, R::FailNotAcknowledged,
+             S::Ready, N::Recovered, R::None),
+      differ(E::RecoverNotReady, S::Fail, N::Rejected, R::FailNotAcknowledged,
+             S::NotReady, N::Recovered, R::None),
+      both(E::SetReady, S::Fail, N::Rejected, R::NotIdle),
+      both(E::SetNotReady, S::Fail, N::Rejected, R::NotIdle),
+      both(E::Disable, S::NotReady, N::Disabled, R::InterfaceDisabled),
+      both(E::Enable, S::Fail, N::None),
+      both(E::Reevaluate, S::Fail, N::None),
+      both(E::SeenNotReady, S::Fail, N::None),
+      both(E::SeenReady, S::Fail, N::None),
+      both(E::SeenActive, S::Fail, N::None),
+      both(E::SeenComplete, S::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+      differ(E::SeenFail, S::Fail, N::FailAcknowledged, R::None, S::Fail, N::None, R::None),
+      both(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
+      both(E::ResponseTimeout, S::Fail, N::None),
+      both(E::ServiceTimeout, S::Fail, N::None),
+      both(E::CompletionAckTimeout, S::Fail, N::None),
+      differ(E::FailAckTimeout, S::Fail, N::TimedOut, R::FailAckTimeout, S::Fail, N::None,
+             R::None),
+      differ(E::FailResetTimeout, S::Fail, N::None, R::None,
+             S::Ready, N::Recovered, R::FailResetTimeout),
+  }});
+
+  // FAIL, request FAIL: acknowledged (both editions).
+  all.push_back({Setup::FailAcknowledged, {
+      both(E::Request, S::Fail, N::Rejected, R::WrongRole),
+      both(E::Accept, S::Fail, N::Rejected, R::AlreadyFailed),
+      both(E::Complete, S::Fail, N::Rejected, R::NotActive),
+      both(E::Fail, S::Fail, N::Rejected, R::AlreadyFailed),
+      both(E::RecoverReady, S::Ready, N::Recovered),
+      both(E::RecoverNotReady, S::NotReady, N::Recovered),
+      both(E::SetReady, S::Fail, N::Rejected, R::NotIdle),
+      both(E::SetNotReady, S::Fail, N::Rejected, R::NotIdle),
+      both(E::Disable, S::NotReady, N::Disabled, R::InterfaceDisabled),
+      both(E::Enable, S::Fail, N::None),
+      both(E::Reevaluate, S::Fail, N::None),
+      both(E::SeenNotReady, S::Fail, N::None),
+      both(E::SeenReady, S::Fail, N::None),
+      both(E::SeenActive, S::Fail, N::None),
+      both(E::SeenComplete, S::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+      both(E::SeenFail, S::Fail, N::None),
+      both(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
+      both(E::ResponseTimeout, S::Fail, N::None),
+      both(E::ServiceTimeout, S::Fail, N::None),
+      both(E::CompletionAckTimeout, S::Fail, N::None),
+      both(E::FailAckTimeout, S::Fail, N::None),
+      differ(E::FailResetTimeout, S::Fail, N::None, R::None,
+             S::Ready, N::Recovered, R::FailResetTimeout),
+  }});
+
+  const std::vector<Expect> disabled_commands = {
+      both(E::Request, S::NotReady, N::Rejected, R::WrongRole),
+      both(E::Accept, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Complete, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Fail, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::RecoverReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::RecoverNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::SetReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::SetNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Disable, S::NotReady, N::None),
+      both(E::Reevaluate, S::NotReady, N::None),
+      both(E::SeenComplete, S::NotReady, N::ProtocolViolation, R::CompleteOnRequest),
+      both(E::SeenUnavailable, S::NotReady, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::NotReady, N::ProtocolViolation, R::UnknownValue),
+  };
+  all.push_back({Setup::Disabled, with(with(disabled_commands, {
+      both(E::Enable, S::Ready, N::Enabled),
+      both(E::SeenNotReady, S::NotReady, N::None, R::InterfaceDisabled),
+      both(E::SeenReady, S::NotReady, N::None),
+      both(E::SeenActive, S::NotReady, N::None, R::InterfaceDisabled),
+      both(E::SeenFail, S::NotReady, N::CounterpartFailed, R::InterfaceDisabled),
+  }), quiet_timers(S::NotReady))});
+  // The request went FAIL while DISABLED: ENABLED acknowledges it (both
+  // editions: Table 6 condition 2, 1.3 "the response will fail as well").
+  all.push_back({Setup::DisabledFailPending, with(with(disabled_commands, {
+      both(E::Enable, S::Fail, N::CounterpartFailed, R::CounterpartFail),
+      both(E::SeenNotReady, S::NotReady, N::None, R::InterfaceDisabled),
+      both(E::SeenReady, S::NotReady, N::None, R::InterfaceDisabled),
+      both(E::SeenActive, S::NotReady, N::None, R::InterfaceDisabled),
+      both(E::SeenFail, S::NotReady, N::None),
+  }), quiet_timers(S::NotReady))});
+  return all;
+}
+
+class ResponderTable : public ::testing::TestWithParam<Profile> {};
+
+TEST_P(ResponderTable, EveryStateEventPairMatchesTheSpec) {
+  const Profile profile = GetParam();
+  for (const auto& setup : responder_expectations()) {
+    std::set<Event> covered;
+    for (const Expect& x : setup.rows) {
+      covered.insert(x.event);
+      Responder m = responder_in(setup.setup, profile);
+      const InteractionState before = m.state();
+      const StepResult r = m.step(x.event, kT0);
+      const bool v13 = profile == Profile::V1_3;
+      SCOPED_TRACE(::testing::Message() << "setup " << static_cast<int>(setup.setup) << " event "
+                                        << x.event << (v13 ? " (1.3)" : " (1.6)"));
+      EXPECT_EQ(r.previous, before);
+      EXPECT_EQ(r.current, v13 ? x.state13 : x.state16);
+      EXPECT_EQ(m.state(), r.current);
+      EXPECT_EQ(r.notice, v13 ? x.notice13 : x.notice16);
+      EXPECT_EQ(r.reason, v13 ? x.reason13 : x.reason16);
+      EXPECT_EQ(r.role, Role::Responder);
+      if (r.rejected()) {
+        EXPECT_FALSE(r.changed()) << "a rejection must not change state";
+      }
+      // Table 6: never ACTIVE unless the request is ACTIVE.
+      if (r.changed() && r.current == InteractionState::Active) {
+        EXPECT_EQ(m.counterpart(), InteractionState::Active);
+      }
+    }
+    EXPECT_EQ(covered.size(), kEventCount) << "setup " << static_cast<int>(setup.setup)
+                                           << " does not list every event";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Profiles, ResponderTable, ::testing::Values(Profile::V1_6, Profile::V1_3),
+                         profile_name<::testing::TestParamInfo<Profile>>);
+
+TEST(ResponderTable, OnlyAcceptLeadsFromReadyToActive) {
+  for (const auto& row : responder_table()) {
+    if (row.to == Target::Active) {
+      EXPECT_EQ(row.event, Event::Accept);
+      EXPECT_EQ(row.from, Phase::Ready);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mtc::core::testing_support
