@@ -126,3 +126,32 @@ inline Responder responder_in(Setup s, Profile p) {
 
 }  // namespace testing_support
 }  // namespace mtc::core
+
+namespace mtc::core::testing_support {
+
+// A requester and a responder wired back to back with instantaneous
+// delivery: to_responder() shows the responder the request's current value,
+// to_requester() the other way round. The simulated clock only moves when a
+// test advances it.
+struct Pair {
+  explicit Pair(Profile p = Profile::V1_6, Service s = Service::MaterialLoad)
+      : requester(s, options_for(p)), responder(s, options_for(p)) {
+    to_responder();
+    to_requester();
+  }
+  Pair(const MachineOptions& requester_options, const MachineOptions& responder_options,
+       Service s = Service::MaterialLoad)
+      : requester(s, requester_options), responder(s, responder_options) {
+    to_responder();
+    to_requester();
+  }
+
+  StepResult to_responder() { return responder.on_counterpart(requester.state(), now); }
+  StepResult to_requester() { return requester.on_counterpart(responder.state(), now); }
+
+  Requester requester;
+  Responder responder;
+  TimePoint now{};
+};
+
+}  // namespace mtc::core::testing_support
