@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "mtc/core/vocabulary.hpp"
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/timing.hpp"
 
 namespace mtc::dds {
 
@@ -75,6 +77,14 @@ struct DomainObserverOptions {
   std::string qos_profile;
   // Only these devices (uuid); empty = all.
   std::vector<std::string> device_filter;
+  // Transport of the observer's participant (loopback only by default).
+  qos::Transport transport = qos::Transport::Loopback;
+  // The observer requests this liveliness lease from every writer; it must
+  // be at least the longest lease of the observed devices (a device with a
+  // longer lease does not match, which the observer reports on stderr), and
+  // it bounds how soon a lost device is reported. No DEADLINE is requested,
+  // so devices with any heartbeat period match.
+  qos::Timing timing;
 };
 
 class DomainObserver {

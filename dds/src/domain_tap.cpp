@@ -1,0 +1,278 @@
+#include "domain_tap.hpp"
+
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include <cstring>
+
+#include "mtc/dds/topics.hpp"
+#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/qos/presets.hpp"
+
+namespace mtc::dds::detail {
+
+namespace {
+
+std::string spell(std::optional<core::InteractionState> s, int raw) {
+  return s ? std::string(core::to_string(*s)) : "INVALID(" + std::to_string(raw) + ")";
+}
+template <typename Core>
+std::string spell_state(std::optional<Core> s, int raw) {
+  return s ? std::string(core::to_string(*s)) : "INVALID(" + std::to_string(raw) + ")";
+}
+
+ObservedValue base(std::string device, std::string item, std::string iface,
+                   std::uint64_t seq, std::uint64_t hb, std::int64_t t) {
+  ObservedValue v;
+  v.device_uuid = std::move(device);
+  v.data_item_id = std::move(item);
+  v.interface_id = std::move(iface);
+  v.sequence_number = seq;
+  v.heartbeat_count = hb;
+  v.source_time_ns = t;
+  v.reception_time_ns = topics::realtime_ns();
+  return v;
+}
+
+ObservedValue observe(const idl::InteractionSample& s) {
+  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
+                s.heartbeat_count(), s.source_time_ns());
+  v.kind = ItemKind::Interaction;
+  v.service = topics::from_idl(s.service());
+  v.sub_type = topics::from_idl(s.sub_type());
+  v.value = spell(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  return v;
+}
+ObservedValue observe(const idl::InterfaceStateSample& s) {
+  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
+                s.heartbeat_count(), s.source_time_ns());
+  v.kind = ItemKind::InterfaceState;
+  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  return v;
+}
+ObservedValue observe(const idl::DoorStateSample& s) {
+  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
+                s.heartbeat_count(), s.source_time_ns());
+  v.kind = ItemKind::DoorState;
+  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  return v;
+}
+ObservedValue observe(const idl::ChuckStateSample& s) {
+  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
+                s.heartbeat_count(), s.source_time_ns());
+  v.kind = ItemKind::ChuckState;
+  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  return v;
+}
+
+// One listener per reader: copies samples and statuses into TapEvents.
+template <typename Sample>
+class TapListener final : public fdds::DataReaderListener {
+ public:
+  TapListener(TopicKind kind, const TapSink& sink) : kind_(kind), sink_(sink) {}
+
+  void on_data_available(fdds::DataReader* reader) override {
+    Sample sample;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&sample, &info) == ReturnCode::RETCODE_OK) {
+      if (info.valid_data) {
+        emit(sample, info);
+      } else if (info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
+        sink_(InstanceGoneEvent{kind_, to_handle(info.instance_handle)});
+      }
+    }
+  }
+  void on_liveliness_changed(fdds::DataReader*,
+                             const fdds::LivelinessChangedStatus& status) override {
+    if (status.alive_count_change != 0) {
+      sink_(WriterLivelinessEvent{kind_, to_handle(status.last_publication_handle),
+                                  status.alive_count_change > 0});
+    }
+  }
+  // A writer that is deleted or unmatched never loses liveliness in 2.9:
+  // report it as gone here.
+  void on_subscription_matched(fdds::DataReader*,
+                               const fdds::SubscriptionMatchedStatus& status) override {
+    if (status.current_count_change < 0) {
+      sink_(WriterLivelinessEvent{kind_, to_handle(status.last_publication_handle), false});
+    }
+  }
+  void on_requested_deadline_missed(fdds::DataReader*,
+                                    const fdds::RequestedDeadlineMissedStatus& status) override {
+    sink_(DeadlineMissedEvent{kind_, to_handle(status.last_instance_handle)});
+  }
+  void on_requested_incompatible_qos(fdds::DataReader*,
+                                     const fdds::RequestedIncompatibleQosStatus& status) override {
+    sink_(IncompatibleQosEvent{kind_, std::to_string(status.last_policy_id)});
+  }
+
+ private:
+  void emit(const Sample& s, const fdds::SampleInfo& info) {
+    if constexpr (std::is_same_v<Sample, idl::DeviceDescription>) {
+      sink_(DeviceEvent{to_handle(info.publication_handle), to_handle(info.instance_handle),
+                        to_observed(s)});
+    } else {
+      sink_(ValueEvent{kind_, to_handle(info.publication_handle), to_handle(info.instance_handle),
+                       observe(s)});
+    }
+  }
+
+  TopicKind kind_;
+  const TapSink& sink_;
+};
+
+template <typename PubSub>
+std::string type_name() {
+  PubSub t;
+  return t.getName();
+}
+
+}  // namespace
+
+Handle to_handle(const eprosima::fastrtps::rtps::InstanceHandle_t& h) noexcept {
+  Handle out{};
+  std::memcpy(out.data(), static_cast<const eprosima::fastrtps::rtps::octet*>(h.value),
+              out.size());
+  return out;
+}
+
+ObservedDevice to_observed(const idl::DeviceDescription& d) {
+  ObservedDevice out;
+  out.device_uuid = d.device_uuid().to_string();
+  out.name = d.name().to_string();
+  for (const auto& i : d.interfaces()) {
+    ObservedInterface oi;
+    oi.id = i.id().to_string();
+    oi.name = i.name().to_string();
+    oi.type = topics::from_idl(i.interface_type()).value_or(core::InterfaceType::MaterialHandler);
+    for (const auto& item : i.data_items()) {
+      oi.data_items.push_back({item.id().to_string(), item.name().to_string(),
+                               item.type().to_string(), item.sub_type().to_string(),
+                               item.category().to_string()});
+    }
+    out.interfaces.push_back(std::move(oi));
+  }
+  return out;
+}
+
+const char* topic_name(TopicKind kind) noexcept {
+  switch (kind) {
+    case TopicKind::Request: return topics::kInteractionRequest;
+    case TopicKind::Response: return topics::kInteractionResponse;
+    case TopicKind::InterfaceState: return topics::kInterfaceState;
+    case TopicKind::DoorState: return topics::kDoorState;
+    case TopicKind::ChuckState: return topics::kChuckState;
+    case TopicKind::DeviceDescription: return topics::kDeviceDescription;
+  }
+  return "";
+}
+
+namespace {
+
+// Registers the IDL type of a topic and creates it.
+std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
+                                  const qos::Timing& timing) {
+  std::string type;
+  switch (kind) {
+    case TopicKind::Request:
+    case TopicKind::Response:
+      participant.register_type(fdds::TypeSupport(new idl::InteractionSamplePubSubType()));
+      type = type_name<idl::InteractionSamplePubSubType>();
+      break;
+    case TopicKind::InterfaceState:
+      participant.register_type(fdds::TypeSupport(new idl::InterfaceStateSamplePubSubType()));
+      type = type_name<idl::InterfaceStateSamplePubSubType>();
+      break;
+    case TopicKind::DoorState:
+      participant.register_type(fdds::TypeSupport(new idl::DoorStateSamplePubSubType()));
+      type = type_name<idl::DoorStateSamplePubSubType>();
+      break;
+    case TopicKind::ChuckState:
+      participant.register_type(fdds::TypeSupport(new idl::ChuckStateSamplePubSubType()));
+      type = type_name<idl::ChuckStateSamplePubSubType>();
+      break;
+    case TopicKind::DeviceDescription:
+      participant.register_type(fdds::TypeSupport(new idl::DeviceDescriptionPubSubType()));
+      type = type_name<idl::DeviceDescriptionPubSubType>();
+      return std::make_unique<Topic>(participant, topic_name(kind), type,
+                                     qos::device_description_topic(timing).topic_qos());
+  }
+  return std::make_unique<Topic>(participant, topic_name(kind), type,
+                                 qos::state_topic(timing).topic_qos());
+}
+
+}  // namespace
+
+Topic& TopicSet::get(TopicKind kind) {
+  auto& slot = topics_[static_cast<std::size_t>(kind)];
+  if (!slot) {
+    slot = make_topic(participant_, kind, timing_);
+  }
+  return *slot;
+}
+
+struct DomainTap::Impl {
+  TapSink sink;
+  std::array<std::unique_ptr<fdds::DataReaderListener>, kTopicKindCount> listeners;
+  std::unique_ptr<Subscriber> subscriber;
+  std::array<std::unique_ptr<Reader>, kTopicKindCount> readers;
+};
+
+namespace {
+
+std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const TapSink& sink) {
+  switch (kind) {
+    case TopicKind::Request:
+    case TopicKind::Response:
+      return std::make_unique<TapListener<idl::InteractionSample>>(kind, sink);
+    case TopicKind::InterfaceState:
+      return std::make_unique<TapListener<idl::InterfaceStateSample>>(kind, sink);
+    case TopicKind::DoorState: return std::make_unique<TapListener<idl::DoorStateSample>>(kind, sink);
+    case TopicKind::ChuckState:
+      return std::make_unique<TapListener<idl::ChuckStateSample>>(kind, sink);
+    case TopicKind::DeviceDescription:
+      return std::make_unique<TapListener<idl::DeviceDescription>>(kind, sink);
+  }
+  return nullptr;
+}
+
+fdds::DataReaderQos reader_qos(TopicKind kind, const TapConfig& config) {
+  auto preset = kind == TopicKind::DeviceDescription ? qos::device_description_topic(config.timing)
+                                                     : qos::state_topic(config.timing);
+  auto q = preset.reader_qos();
+  if (!config.request_deadline) {
+    q.deadline().period = eprosima::fastrtps::c_TimeInfinite;
+  }
+  // A reader sees every device's items: allow more instances than a writer.
+  q.resource_limits().max_instances = 16384;
+  q.resource_limits().max_samples = 16384 * q.resource_limits().max_samples_per_instance;
+  return q;
+}
+
+}  // namespace
+
+DomainTap::DomainTap(Participant& participant, TopicSet& topics, const TapConfig& config,
+                     TapSink sink)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->sink = std::move(sink);
+  impl_->subscriber = std::make_unique<Subscriber>(participant, config.partitions);
+  for (std::size_t i = 0; i < kTopicKindCount; ++i) {
+    if (!config.topics[i]) {
+      continue;
+    }
+    const auto kind = static_cast<TopicKind>(i);
+    impl_->listeners[i] = make_listener(kind, impl_->sink);
+    impl_->readers[i] = std::make_unique<Reader>(*impl_->subscriber, topics.get(kind),
+                                                 reader_qos(kind, config),
+                                                 impl_->listeners[i].get());
+  }
+}
+
+DomainTap::~DomainTap() {
+  // Readers first (they reference listeners and topics), then the rest.
+  for (auto& r : impl_->readers) {
+    r.reset();
+  }
+  impl_->subscriber.reset();
+}
+
+}  // namespace mtc::dds::detail

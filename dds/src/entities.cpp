@@ -1,0 +1,153 @@
+#include "mtc/dds/entities.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
+#include <iostream>
+
+namespace mtc::dds {
+
+std::string Error::name(const ReturnCode& code) {
+  switch (code()) {
+    case ReturnCode::RETCODE_OK: return "RETCODE_OK";
+    case ReturnCode::RETCODE_ERROR: return "RETCODE_ERROR";
+    case ReturnCode::RETCODE_UNSUPPORTED: return "RETCODE_UNSUPPORTED";
+    case ReturnCode::RETCODE_BAD_PARAMETER: return "RETCODE_BAD_PARAMETER";
+    case ReturnCode::RETCODE_PRECONDITION_NOT_MET: return "RETCODE_PRECONDITION_NOT_MET";
+    case ReturnCode::RETCODE_OUT_OF_RESOURCES: return "RETCODE_OUT_OF_RESOURCES";
+    case ReturnCode::RETCODE_NOT_ENABLED: return "RETCODE_NOT_ENABLED";
+    case ReturnCode::RETCODE_IMMUTABLE_POLICY: return "RETCODE_IMMUTABLE_POLICY";
+    case ReturnCode::RETCODE_INCONSISTENT_POLICY: return "RETCODE_INCONSISTENT_POLICY";
+    case ReturnCode::RETCODE_ALREADY_DELETED: return "RETCODE_ALREADY_DELETED";
+    case ReturnCode::RETCODE_TIMEOUT: return "RETCODE_TIMEOUT";
+    case ReturnCode::RETCODE_NO_DATA: return "RETCODE_NO_DATA";
+    case ReturnCode::RETCODE_ILLEGAL_OPERATION: return "RETCODE_ILLEGAL_OPERATION";
+    case ReturnCode::RETCODE_NOT_ALLOWED_BY_SECURITY: return "RETCODE_NOT_ALLOWED_BY_SECURITY";
+    default: return "RETCODE_" + std::to_string(code());
+  }
+}
+
+void check(const ReturnCode& code, const std::string& what) {
+  if (code != ReturnCode::RETCODE_OK) {
+    throw Error(what, code);
+  }
+}
+
+namespace {
+
+// Destructors must not throw; a failed deletion is worth a line on stderr
+// (the participant's delete_contained_entities cleans up anyway).
+void report(const ReturnCode& code, const char* what) {
+  if (code != ReturnCode::RETCODE_OK) {
+    std::cerr << "mtc::dds: " << what << " failed: " << Error::name(code) << '\n';
+  }
+}
+
+}  // namespace
+
+Participant::Participant(int domain_id, const fdds::DomainParticipantQos& qos) {
+  participant_ =
+      fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+  if (participant_ == nullptr) {
+    throw CreationError("create_participant(domain " + std::to_string(domain_id) + ")");
+  }
+}
+
+Participant::~Participant() {
+  report(participant_->delete_contained_entities(), "delete_contained_entities");
+  report(fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_),
+         "delete_participant");
+}
+
+void Participant::register_type(fdds::TypeSupport type) {
+  if (participant_->find_type(type.get_type_name()).empty()) {
+    const std::string name = type.get_type_name();
+    check(type.register_type(participant_), "register_type " + name);
+  }
+}
+
+Topic::Topic(Participant& participant, const std::string& name, const std::string& type_name,
+             const fdds::TopicQos& qos)
+    : participant_(participant) {
+  topic_ = participant.get().create_topic(name, type_name, qos);
+  if (topic_ == nullptr) {
+    throw CreationError("create_topic " + name + " (" + type_name + ")");
+  }
+}
+
+Topic::~Topic() { report(participant_.get().delete_topic(topic_), "delete_topic"); }
+
+namespace {
+
+fdds::PartitionQosPolicy partition_policy(const std::vector<std::string>& partitions) {
+  fdds::PartitionQosPolicy policy;
+  for (const auto& p : partitions) {
+    policy.push_back(p.c_str());
+  }
+  return policy;
+}
+
+}  // namespace
+
+Publisher::Publisher(Participant& participant, const std::vector<std::string>& partitions)
+    : participant_(participant) {
+  fdds::PublisherQos qos = fdds::PUBLISHER_QOS_DEFAULT;
+  qos.partition(partition_policy(partitions));
+  publisher_ = participant.get().create_publisher(qos);
+  if (publisher_ == nullptr) {
+    throw CreationError("create_publisher");
+  }
+}
+
+Publisher::~Publisher() { report(participant_.get().delete_publisher(publisher_), "delete_publisher"); }
+
+Subscriber::Subscriber(Participant& participant, const std::vector<std::string>& partitions)
+    : participant_(participant) {
+  fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
+  qos.partition(partition_policy(partitions));
+  subscriber_ = participant.get().create_subscriber(qos);
+  if (subscriber_ == nullptr) {
+    throw CreationError("create_subscriber");
+  }
+}
+
+Subscriber::~Subscriber() {
+  report(participant_.get().delete_subscriber(subscriber_), "delete_subscriber");
+}
+
+WriterBase::WriterBase(Publisher& publisher, Topic& topic, const fdds::DataWriterQos& qos,
+                       fdds::DataWriterListener& listener)
+    : publisher_(publisher) {
+  writer_ = publisher.get().create_datawriter(&topic.get(), qos, &listener);
+  if (writer_ == nullptr) {
+    throw CreationError("create_datawriter " + topic.get().get_name());
+  }
+}
+
+WriterBase::~WriterBase() {
+  report(publisher_.get().delete_datawriter(writer_), "delete_datawriter");
+}
+
+void WriterBase::assert_liveliness() { check(writer_->assert_liveliness(), "assert_liveliness"); }
+
+void WriterBase::write_untyped(void* sample, const char* what) {
+  check(writer_->write(sample, fdds::HANDLE_NIL), std::string(what) + " on " +
+                                                      writer_->get_topic()->get_name());
+}
+
+void WriterBase::dispose_untyped(void* sample, const char* what) {
+  check(writer_->dispose(sample, fdds::HANDLE_NIL),
+        std::string(what) + " on " + writer_->get_topic()->get_name());
+}
+
+Reader::Reader(Subscriber& subscriber, Topic& topic, const fdds::DataReaderQos& qos,
+               fdds::DataReaderListener* listener, const fdds::StatusMask& mask)
+    : subscriber_(subscriber) {
+  reader_ = subscriber.get().create_datareader(&topic.get(), qos, listener, mask);
+  if (reader_ == nullptr) {
+    throw CreationError("create_datareader " + topic.get().get_name());
+  }
+}
+
+Reader::~Reader() { report(subscriber_.get().delete_datareader(reader_), "delete_datareader"); }
+
+}  // namespace mtc::dds

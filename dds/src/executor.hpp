@@ -1,0 +1,51 @@
+// Internal: the single thread on which an Equipment or DomainObserver runs
+// everything that touches its state: queued tasks (DDS events handed off by
+// listeners, application commands) and timers. Waits on a condition
+// variable until the next task or the next wake-up instant; never sleeps.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+namespace mtc::dds::detail {
+
+class Executor {
+ public:
+  using Clock = std::chrono::steady_clock;
+  using Task = std::function<void()>;
+  // Called on the executor thread after every batch of tasks: returns the
+  // next instant `on_wake` wants to run (Clock::time_point::max() = none).
+  using NextWake = std::function<Clock::time_point()>;
+  using OnWake = std::function<void(Clock::time_point now)>;
+
+  Executor() = default;
+  ~Executor() { stop(); }
+  Executor(const Executor&) = delete;
+  Executor& operator=(const Executor&) = delete;
+
+  void start(NextWake next_wake, OnWake on_wake);
+  // Thread-safe; tasks run in posting order. Ignored after stop().
+  void post(Task task);
+  // Runs the remaining queued tasks, then joins. Idempotent.
+  void stop();
+  bool on_executor_thread() const noexcept {
+    return std::this_thread::get_id() == thread_.get_id();
+  }
+
+ private:
+  void run();
+
+  NextWake next_wake_;
+  OnWake on_wake_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<Task> tasks_;
+  bool stopping_ = false;
+  std::thread thread_;
+};
+
+}  // namespace mtc::dds::detail

@@ -1,0 +1,194 @@
+// DomainObserver sees values and announcements of raw writers that follow
+// the topic design, and reports items and devices lost when their writer
+// loses liveliness, is deleted, or misses its deadline.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+
+#include "mtc/dds/domain_observer.hpp"
+#include "mtc/dds/entities.hpp"
+#include "mtc/dds/topics.hpp"
+#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/qos/presets.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace topics = mtc::dds::topics;
+
+struct Recorder {
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::vector<mtc::dds::ObservedValue> values;
+  std::vector<mtc::dds::ObservedDevice> devices;
+  std::vector<std::pair<std::string, std::vector<std::string>>> lost;
+  std::vector<std::string> devices_lost;
+
+  mtc::dds::DomainObserverCallbacks callbacks() {
+    mtc::dds::DomainObserverCallbacks cb;
+    cb.on_value = [this](const mtc::dds::ObservedValue& v) { add([&] { values.push_back(v); }); };
+    cb.on_device = [this](const mtc::dds::ObservedDevice& d) { add([&] { devices.push_back(d); }); };
+    cb.on_items_lost = [this](const std::string& d, const std::vector<std::string>& items) {
+      add([&] { lost.emplace_back(d, items); });
+    };
+    cb.on_device_lost = [this](const std::string& d) { add([&] { devices_lost.push_back(d); }); };
+    return cb;
+  }
+  template <typename Fn>
+  void add(Fn fn) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      fn();
+    }
+    cv.notify_all();
+  }
+  template <typename Pred>
+  bool wait(Pred pred, std::chrono::milliseconds timeout = 10s) {
+    std::unique_lock<std::mutex> lock(mutex);
+    return cv.wait_for(lock, timeout, [&] { return pred(); });
+  }
+};
+
+struct QuietListener : eprosima::fastdds::dds::DataWriterListener {};
+
+// A minimal hand-made "device": one InteractionSample writer and one
+// DeviceDescription writer in the device's partition.
+class RawDevice {
+ public:
+  RawDevice(int domain, const std::string& uuid)
+      : participant_(domain, mtc::qos::participant_qos({})),
+        publisher_(participant_, {topics::device_partition(uuid)}),
+        uuid_(uuid) {
+    participant_.register_type(eprosima::fastdds::dds::TypeSupport(
+        new mtc::idl::InteractionSamplePubSubType()));
+    participant_.register_type(eprosima::fastdds::dds::TypeSupport(
+        new mtc::idl::DeviceDescriptionPubSubType()));
+    response_topic_ = std::make_unique<mtc::dds::Topic>(
+        participant_, topics::kInteractionResponse, "mtc::idl::InteractionSample",
+        mtc::qos::state_topic().topic_qos());
+    description_topic_ = std::make_unique<mtc::dds::Topic>(
+        participant_, topics::kDeviceDescription, "mtc::idl::DeviceDescription",
+        mtc::qos::device_description_topic().topic_qos());
+    writer_ = std::make_unique<mtc::dds::Writer<mtc::idl::InteractionSample>>(
+        publisher_, *response_topic_, mtc::qos::state_topic().writer_qos(), listener_);
+    describer_ = std::make_unique<mtc::dds::Writer<mtc::idl::DeviceDescription>>(
+        publisher_, *description_topic_, mtc::qos::device_description_topic().writer_qos(),
+        listener_);
+  }
+  void announce() {
+    mtc::idl::DeviceDescription d;
+    d.device_uuid(uuid_);
+    d.name("raw device");
+    mtc::idl::InterfaceDescription i;
+    i.id("mh1");
+    i.interface_type(mtc::idl::interface_types::MATERIAL_HANDLER);
+    mtc::idl::DataItemDescription item;
+    item.id("mh1_material_load_response");
+    item.type("MATERIAL_LOAD");
+    item.sub_type("RESPONSE");
+    item.category("EVENT");
+    i.data_items().push_back(item);
+    d.interfaces().push_back(i);
+    describer_->write(d);
+  }
+  void publish(mtc::idl::interaction_state::Value state, std::uint64_t seq) {
+    mtc::idl::InteractionSample s;
+    s.device_uuid(uuid_);
+    s.data_item_id("mh1_material_load_response");
+    s.interface_id("mh1");
+    s.service(mtc::idl::services::MATERIAL_LOAD);
+    s.sub_type(mtc::idl::sub_types::RESPONSE);
+    s.state(state);
+    s.sequence_number(seq);
+    s.source_time_ns(topics::realtime_ns());
+    writer_->write(s);
+  }
+  void drop_writer() { writer_.reset(); }
+
+ private:
+  mtc::dds::Participant participant_;
+  mtc::dds::Publisher publisher_;
+  std::string uuid_;
+  QuietListener listener_;
+  std::unique_ptr<mtc::dds::Topic> response_topic_;
+  std::unique_ptr<mtc::dds::Topic> description_topic_;
+  std::unique_ptr<mtc::dds::Writer<mtc::idl::InteractionSample>> writer_;
+  std::unique_ptr<mtc::dds::Writer<mtc::idl::DeviceDescription>> describer_;
+};
+
+mtc::dds::DomainObserverOptions options(int domain) {
+  mtc::dds::DomainObserverOptions o;
+  o.domain_id = domain;
+  return o;
+}
+
+TEST(DomainObserver, SeesAnnouncementsValuesAndLossByLiveliness) {
+  Recorder rec;
+  mtc::dds::DomainObserver observer(options(20), rec.callbacks());
+  RawDevice dev(20, "robot-1");
+  dev.announce();
+  dev.publish(mtc::idl::interaction_state::READY, 1);
+  ASSERT_TRUE(rec.wait([&] { return !rec.devices.empty() && !rec.values.empty(); }));
+  {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    EXPECT_EQ(rec.devices[0].device_uuid, "robot-1");
+    ASSERT_EQ(rec.devices[0].interfaces.size(), 1u);
+    EXPECT_EQ(rec.devices[0].interfaces[0].type, mtc::core::InterfaceType::MaterialHandler);
+    EXPECT_EQ(rec.devices[0].interfaces[0].data_items.at(0).sub_type, "RESPONSE");
+    const auto& v = rec.values[0];
+    EXPECT_EQ(v.value, "READY");
+    EXPECT_EQ(v.kind, mtc::dds::ItemKind::Interaction);
+    EXPECT_EQ(v.service, mtc::core::Service::MaterialLoad);
+    EXPECT_EQ(v.sub_type, mtc::core::SubType::Response);
+    EXPECT_EQ(v.sequence_number, 1u);
+  }
+  EXPECT_EQ(observer.devices().size(), 1u);
+  // No heartbeat follows: the MANUAL_BY_TOPIC lease (300 ms) expires for
+  // both writers (the description writer never asserts either).
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_TRUE(rec.wait([&] { return !rec.lost.empty() && !rec.devices_lost.empty(); }));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, 3s);
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  EXPECT_EQ(rec.lost[0].first, "robot-1");
+  EXPECT_EQ(rec.lost[0].second, std::vector<std::string>{"mh1_material_load_response"});
+  EXPECT_EQ(rec.devices_lost[0], "robot-1");
+}
+
+TEST(DomainObserver, ReportsLossWhenWriterIsDeleted) {
+  Recorder rec;
+  mtc::dds::DomainObserver observer(options(21), rec.callbacks());
+  RawDevice dev(21, "cnc-1");
+  dev.publish(mtc::idl::interaction_state::ACTIVE, 7);
+  ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
+  dev.drop_writer();  // disposes its instances
+  ASSERT_TRUE(rec.wait([&] { return !rec.lost.empty(); }));
+  EXPECT_EQ(rec.lost[0].first, "cnc-1");
+}
+
+TEST(DomainObserver, DeviceFilterHidesOtherDevices) {
+  Recorder rec;
+  auto o = options(22);
+  o.device_filter = {"wanted"};
+  mtc::dds::DomainObserver observer(o, rec.callbacks());
+  RawDevice other(22, "other");
+  RawDevice wanted(22, "wanted");
+  other.publish(mtc::idl::interaction_state::READY, 1);
+  wanted.publish(mtc::idl::interaction_state::FAIL, 2);
+  ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  for (const auto& v : rec.values) EXPECT_EQ(v.device_uuid, "wanted");
+  EXPECT_EQ(rec.values[0].value, "FAIL");
+}
+
+TEST(DomainObserver, BadOptionsThrowTypedErrors) {
+  Recorder rec;
+  auto o = options(23);
+  o.qos_profile = "no.such.profile";
+  EXPECT_THROW(mtc::dds::DomainObserver(o, rec.callbacks()), mtc::dds::ConfigError);
+  o = options(500);
+  EXPECT_THROW(mtc::dds::DomainObserver(o, rec.callbacks()), mtc::dds::Error);
+}
+
+}  // namespace
