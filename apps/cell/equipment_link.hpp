@@ -1,0 +1,17 @@
+// The Link of one station over the DDS Equipment runtime (mtc::dds): the
+// station's device, its interfaces and services, on `options.domain_id`.
+#pragma once
+
+#include <memory>
+
+#include "cell_plan.hpp"
+#include "ports.hpp"
+#include "stations.hpp"
+
+namespace mtc::cell {
+
+// Throws std::runtime_error (with the runtime's message) when the equipment
+// cannot be created, or when this build has no DDS runtime.
+std::unique_ptr<Link> make_equipment_link(StationId id, const CellOptions& options);
+
+}  // namespace mtc::cell

@@ -1,0 +1,110 @@
+// mtc-cell: a simulated machine-tending cell -- machine tool, robot and bar
+// feeder -- running Part 5 load/unload cycles over DDS, with seeded failures
+// that recover. `./scripts/start.sh` runs it with the MTConnect bridge.
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "cell_plan.hpp"
+#include "stations.hpp"
+#include "supervisor.hpp"
+
+namespace {
+
+using mtc::cell::CellOptions;
+
+void usage(std::ostream& out) {
+  out << "usage: mtc-cell [options]\n"
+         "  --cycles N       stop after N machine cycles (default: run until Ctrl-C)\n"
+         "  --duration S     stop after S seconds\n"
+         "  --seed N         seed of the failure schedule (default 1)\n"
+         "  --fail-every K   one injected failure per K cycles, 0 = none (default 10)\n"
+         "  --pace-ms MS     duration of one simulated motion (default 150)\n"
+         "  --domain D       DDS domain id (default 110)\n"
+         "  --threads        run the three stations as threads of one process\n"
+         "  --local          same, over an in-memory link instead of DDS (no network)\n"
+         "  --station NAME   run one station only: machine, robot or feeder\n"
+         "Runs inside the loopback-only namespace: ./scripts/start.sh does that.\n";
+}
+
+bool parse_number(const std::string& text, long min, long max, long& out) {
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < min || v > max) return false;
+  out = v;
+  return true;
+}
+
+enum class Mode { Supervise, Station, Threads, Local };
+
+struct Parsed {
+  CellOptions options;
+  Mode mode = Mode::Supervise;
+  mtc::cell::StationId station = mtc::cell::StationId::Machine;
+  std::vector<std::string> station_args;  // what each child station gets
+};
+
+// Returns an error message, empty on success.
+std::string parse(int argc, char** argv, Parsed& p) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--threads") { p.mode = Mode::Threads; continue; }
+    if (a == "--local") { p.mode = Mode::Local; continue; }
+    if (i + 1 >= argc) return "unknown option or missing value: " + a;
+    const std::string v = argv[++i];
+    long n = 0;
+    if (a == "--station") {
+      const auto id = mtc::cell::parse_station(v);
+      if (!id) return "unknown station '" + v + "' (machine, robot or feeder)";
+      p.mode = Mode::Station;
+      p.station = *id;
+      continue;
+    }
+    if (a == "--cycles" && parse_number(v, 0, 1000000, n)) {
+      p.options.cycles = static_cast<int>(n);
+    } else if (a == "--duration" && parse_number(v, 0, 86400 * 365, n)) {
+      p.options.duration_s = static_cast<int>(n);
+      continue;  // the supervisor's business, not the stations'
+    } else if (a == "--seed" && parse_number(v, 0, 2147483647, n)) {
+      p.options.seed = static_cast<std::uint64_t>(n);
+    } else if (a == "--fail-every" && parse_number(v, 0, 1000000, n)) {
+      p.options.fail_every = static_cast<int>(n);
+    } else if (a == "--pace-ms" && parse_number(v, 1, 60000, n)) {
+      p.options.pace = mtc::cell::Millis(n);
+    } else if (a == "--domain" && parse_number(v, 0, 232, n)) {
+      p.options.domain_id = static_cast<int>(n);
+    } else {
+      return "bad option or value: " + a + " " + v;
+    }
+    p.station_args.push_back(a);
+    p.station_args.push_back(v);
+  }
+  return {};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      usage(std::cout);
+      return 0;
+    }
+  }
+  Parsed p;
+  const std::string error = parse(argc, argv, p);
+  if (!error.empty()) {
+    std::cerr << "mtc-cell: " << error << "\n";
+    usage(std::cerr);
+    return 2;
+  }
+  switch (p.mode) {
+    case Mode::Station: return mtc::cell::run_station_process(p.station, p.options);
+    case Mode::Threads: return mtc::cell::run_all_in_process(p.options, false);
+    case Mode::Local: return mtc::cell::run_all_in_process(p.options, true);
+    case Mode::Supervise: break;
+  }
+  return mtc::cell::supervise(p.options, p.station_args);
+}

@@ -1,0 +1,50 @@
+// The three stations of the simulated cell, as scripts over a Link:
+//   machine  requests MATERIAL_FEED (feeder), MATERIAL_LOAD and
+//            MATERIAL_UNLOAD (robot) each cycle; serves OPEN/CLOSE_DOOR and
+//            OPEN/CLOSE_CHUCK and publishes DOOR_STATE / CHUCK_STATE;
+//   robot    serves MATERIAL_LOAD / MATERIAL_UNLOAD, requesting the door and
+//            chuck from the machine while it works;
+//   feeder   serves MATERIAL_FEED (advances bar stock to the pick position).
+// Failures follow the seeded FaultPlan; every failure ends with both sides
+// recovered to READY and the machine retrying the step.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+
+#include "cell_plan.hpp"
+#include "ports.hpp"
+
+namespace mtc::cell {
+
+struct CellOptions {
+  int domain_id = 110;
+  int cycles = 0;             // machine stops after this many; 0 = until stopped
+  int duration_s = 0;         // supervisor stops the cell after this; 0 = until stopped
+  std::uint64_t seed = 1;
+  int fail_every = 10;        // one injected failure per this many cycles; 0 = none
+  Millis pace{150};           // duration of one simulated motion
+  Millis handshake_timeout{15000};  // a handshake that takes longer is a cell fault
+};
+
+// Stop request shared by a station's threads; its sleeps wake on stop().
+class Stopper {
+ public:
+  void stop();
+  bool stopped() const;
+  // Simulated motion: false when stopped before `d` elapsed.
+  bool sleep_for(Millis d);
+
+ private:
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stopped_ = false;
+};
+
+// Runs one station until its work is done (the machine after `cycles`) or
+// `stop`. Returns the process exit code: 0 when everything recovered.
+int run_station(StationId id, Link& link, const CellOptions& options, Stopper& stop);
+
+}  // namespace mtc::cell
