@@ -34,10 +34,13 @@ TEST(BridgeConfig, DefaultsMatchTheDocumentation) {
   EXPECT_EQ(config.server_ip, "127.0.0.1");
   EXPECT_EQ(config.port, 5000);
   EXPECT_EQ(config.buffer_size_exponent, 17U);
-  EXPECT_EQ(config.schema_version, "2.0");
+  EXPECT_TRUE(config.schema_version.empty());  // the agent decides
   EXPECT_EQ(config.domain_ids, std::vector<int>{0});
   EXPECT_EQ(config.io_threads, 1U);
-  EXPECT_EQ(config.heartbeat, 10000ms);
+  EXPECT_EQ(config.heartbeat, 100ms);
+  EXPECT_EQ(config.missed_heartbeats, 3);
+  EXPECT_EQ(config.transport, "loopback");
+  EXPECT_EQ(config.stream_heartbeat, 10000ms);
 }
 
 TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
@@ -55,6 +58,9 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "DeviceFilter = robot-1,mill-2\n"
       "WorkerThreads = 2\r\n"
       "HeartbeatMs = 500\n"
+      "MissedHeartbeats = 4\n"
+      "Transport = network\n"
+      "StreamHeartbeatMs = 2000\n"
       "MaxConnections = 10\n"
       "HeaderTimeoutMs = 2000\n"
       "IdleTimeoutMs = 3000\n"
@@ -70,6 +76,9 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
   EXPECT_EQ(config.device_filter, (std::vector<std::string>{"robot-1", "mill-2"}));
   EXPECT_EQ(config.io_threads, 2U);
   EXPECT_EQ(config.heartbeat, 500ms);
+  EXPECT_EQ(config.missed_heartbeats, 4);
+  EXPECT_EQ(config.transport, "network");
+  EXPECT_EQ(config.stream_heartbeat, 2000ms);
   EXPECT_EQ(config.max_connections, 10U);
   EXPECT_EQ(config.header_timeout, 2000ms);
   EXPECT_EQ(config.idle_timeout, 3000ms);
@@ -102,9 +111,9 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"\n\nPort = 1\nPort = 2", "agent.cfg:4: Port is already set on line 3"},
         Malformed{"BufferSize = 0", "agent.cfg:1: BufferSize (exponent) must be"},
         Malformed{"BufferSize = 131072", "agent.cfg:1: BufferSize (exponent) must be"},
-        Malformed{"SchemaVersion = 2", "agent.cfg:1: SchemaVersion must look like"},
+        Malformed{"SchemaVersion = 2", "agent.cfg:1: SchemaVersion must be one of"},
         Malformed{"SchemaVersion = 7.0", "agent.cfg:1: SchemaVersion"},
-        Malformed{"SchemaVersion = 2.0.1", "agent.cfg:1: SchemaVersion"},
+        Malformed{"SchemaVersion = 1.4", "agent.cfg:1: SchemaVersion"},
         Malformed{"ServerIp = localhost", "agent.cfg:1: ServerIp must be an IPv4 or IPv6"},
         Malformed{"ServerIp = 300.1.1.1", "agent.cfg:1: ServerIp"},
         Malformed{"DomainIds = 1,,x", "agent.cfg:1: each of DomainIds"},
@@ -113,7 +122,10 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"DomainIds = ,", "agent.cfg:1: DomainIds needs at least one"},
         Malformed{"QosProfile = a b", "agent.cfg:1: QosProfile must be a preset name"},
         Malformed{"IoThreads = 0", "agent.cfg:1: IoThreads"},
-        Malformed{"HeartbeatMs = 1", "agent.cfg:1: HeartbeatMs"},
+        Malformed{"HeartbeatMs = 0", "agent.cfg:1: HeartbeatMs"},
+        Malformed{"MissedHeartbeats = 1", "agent.cfg:1: MissedHeartbeats"},
+        Malformed{"Transport = udp", "agent.cfg:1: Transport must be loopback"},
+        Malformed{"StreamHeartbeatMs = 5", "agent.cfg:1: StreamHeartbeatMs"},
         Malformed{"MaxConnections = 0", "agent.cfg:1: MaxConnections"},
         Malformed{"HeaderTimeoutMs = 10s", "agent.cfg:1: HeaderTimeoutMs"},
         Malformed{"Adapters {\n  A { Host = x }\n}", "agent.cfg:1: blocks"},

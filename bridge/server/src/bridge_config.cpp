@@ -1,5 +1,7 @@
 #include "mtc/bridge/bridge_config.hpp"
 
+#include "mtc/bridge/schema_version.hpp"
+
 #include <arpa/inet.h>
 
 #include <algorithm>
@@ -105,14 +107,8 @@ void set_buffer_size(BridgeConfig& c, std::string_view v, const std::string& ori
 }
 
 void set_schema_version(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  const auto dot = v.find('.');
-  const bool shaped = dot != std::string_view::npos && dot > 0 && dot + 1 < v.size() &&
-                      std::all_of(v.begin(), v.end(), [](char ch) {
-                        return ch == '.' || (ch >= '0' && ch <= '9');
-                      }) &&
-                      v.find('.', dot + 1) == std::string_view::npos;
-  if (!shaped || (v.substr(0, dot) != "1" && v.substr(0, dot) != "2")) {
-    fail(origin, "SchemaVersion must look like 1.3 or 2.0, not '" + std::string(v) + "'");
+  if (!parse_schema_version(v)) {
+    fail(origin, "SchemaVersion must be one of 1.3, 1.6, 1.8, 2.0, not '" + std::string(v) + "'");
   }
   c.schema_version = std::string(v);
 }
@@ -155,7 +151,23 @@ void set_io_threads(BridgeConfig& c, std::string_view v, const std::string& orig
 }
 
 void set_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.heartbeat = parse_ms(v, 10, 3600000, origin, "HeartbeatMs");
+  c.heartbeat = parse_ms(v, 1, 600000, origin, "HeartbeatMs");
+}
+
+void set_missed_heartbeats(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.missed_heartbeats = parse_int<int>(v, 2, 100, origin, "MissedHeartbeats");
+}
+
+void set_transport(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  if (v != "loopback" && v != "loopback-udp" && v != "network") {
+    fail(origin, "Transport must be loopback, loopback-udp or network, not '" + std::string(v) +
+                     "'");
+  }
+  c.transport = std::string(v);
+}
+
+void set_stream_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.stream_heartbeat = parse_ms(v, 10, 3600000, origin, "StreamHeartbeatMs");
 }
 
 void set_max_connections(BridgeConfig& c, std::string_view v, const std::string& origin) {
@@ -174,14 +186,14 @@ void set_write_timeout(BridgeConfig& c, std::string_view v, const std::string& o
   c.write_timeout = parse_ms(v, 100, 3600000, origin, "WriteTimeoutMs");
 }
 
-constexpr std::array<Setting, 16> kSettings{{
+constexpr std::array<Setting, 19> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on (default 127.0.0.1)", set_server_ip},
     {"Port", "--port", "HTTP port, 0 = any free port (default 5000)", set_port},
     {"BufferSize", "--buffer-size", "observation buffer holds 2^n entries (default 17)",
      set_buffer_size},
-    {"SchemaVersion", "--schema-version", "MTConnect schema version (default 2.0)",
+    {"SchemaVersion", "--schema-version", "1.3, 1.6, 1.8 or 2.0 (default: the Devices file's, else 1.6)",
      set_schema_version},
     {"Sender", "--sender", "Header sender name (default mtc-bridge)", set_sender},
     {"DomainIds", "--domain-ids", "DDS domain ids to observe, e.g. 0,1 (default 0)",
@@ -192,8 +204,15 @@ constexpr std::array<Setting, 16> kSettings{{
      set_device_filter},
     {"IoThreads", "--io-threads", "HTTP io threads (default 1)", set_io_threads},
     {"WorkerThreads", "", "cppagent's name for IoThreads", set_io_threads},
-    {"HeartbeatMs", "--heartbeat-ms", "stream heartbeat when a request names none (default 10000)",
+    {"HeartbeatMs", "--heartbeat-ms", "DDS heartbeat period of the devices (default 100)",
      set_heartbeat},
+    {"MissedHeartbeats", "--missed-heartbeats",
+     "heartbeats missed before a device's items read UNAVAILABLE (default 3)",
+     set_missed_heartbeats},
+    {"Transport", "--transport", "DDS transport: loopback, loopback-udp or network (default loopback)",
+     set_transport},
+    {"StreamHeartbeatMs", "--stream-heartbeat-ms",
+     "HTTP stream heartbeat when a request names none (default 10000)", set_stream_heartbeat},
     {"MaxConnections", "--max-connections", "open connections; more get 503 (default 256)",
      set_max_connections},
     {"HeaderTimeoutMs", "--header-timeout-ms", "time to send a request header (default 10000)",
@@ -326,12 +345,12 @@ std::string usage_text(std::string_view program) {
   for (const auto& setting : kSettings) {
     if (setting.flag.empty()) continue;
     std::string left = "  " + std::string(setting.flag) + " VALUE";
-    left.resize(std::max<std::size_t>(left.size() + 1, 30), ' ');
+    left.resize(std::max<std::size_t>(left.size() + 1, 32), ' ');
     out << left << std::string(setting.key) << ": " << setting.help << "\n";
   }
-  out << "  --config FILE               agent.cfg-style file (`Key = Value`, # comments)\n"
-      << "  --bind VALUE                same as --server-ip\n"
-      << "  -h, --help                  this text\n\n"
+  out << "  --config FILE                 agent.cfg-style file (`Key = Value`, # comments)\n"
+      << "  --bind VALUE                  same as --server-ip\n"
+      << "  -h, --help                    this text\n\n"
       << "Exit codes: 0 clean stop (SIGINT/SIGTERM), 1 runtime failure, 2 bad configuration.\n";
   return out.str();
 }

@@ -1,0 +1,126 @@
+#include "bridge_app.hpp"
+
+#include <chrono>
+#include <sstream>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+
+#include "mtc/bridge/printer.hpp"
+
+namespace mtc::bridge {
+
+AgentOptions agent_options(const BridgeConfig& config) {
+  AgentOptions options;
+  if (!config.schema_version.empty()) {
+    options.schema_version = parse_schema_version(config.schema_version);
+  }
+  options.buffer_size = std::size_t{1} << config.buffer_size_exponent;
+  options.devices_file = config.devices_file;
+  options.sender = config.sender;
+  return options;
+}
+
+ServerOptions server_options(const BridgeConfig& config,
+                             const std::shared_ptr<MtconnectAgent>& agent) {
+  ServerOptions options;
+  options.bind_address = config.server_ip;
+  options.port = config.port;
+  options.io_threads = config.io_threads;
+  options.max_connections = config.max_connections;
+  options.header_timeout = config.header_timeout;
+  options.idle_timeout = config.idle_timeout;
+  options.write_timeout = config.write_timeout;
+  options.default_heartbeat = config.stream_heartbeat;
+  options.server_name = "mtc-bridge";
+  // Errors found before routing (bad request line, oversized header) get
+  // the same MTConnectError document the agent prints for its own errors.
+  std::weak_ptr<MtconnectAgent> weak = agent;
+  const std::size_t buffer_size = std::size_t{1} << config.buffer_size_exponent;
+  const std::string sender = config.sender;
+  options.error_document = [weak, buffer_size, sender](int status, std::string_view code,
+                                                       std::string_view message) {
+    Response response;
+    response.status = status;
+    const auto locked = weak.lock();
+    if (!locked) return response;
+    HeaderInfo header;
+    header.instance_id = locked->instance_id();
+    header.sender = sender;
+    header.buffer_size = buffer_size;
+    header.next_sequence = locked->next_sequence();
+    header.creation_time_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                  std::chrono::system_clock::now().time_since_epoch())
+                                  .count();
+    response.body = Printer(locked->schema_version())
+                        .error(header, {ErrorEntry{code, std::string(message)}});
+    return response;
+  };
+  return options;
+}
+
+BridgeApp::BridgeApp(const BridgeConfig& config)
+    : config_(config), agent_(make_agent(agent_options(config))) {
+  server_ = std::make_unique<HttpServer>(agent_, server_options(config_, agent_));
+  observe_domains();
+}
+
+BridgeApp::~BridgeApp() {
+  observers_.clear();  // no more intake before the server goes
+  if (server_) server_->stop();
+}
+
+void BridgeApp::observe_domains() {
+  for (const int domain : config_.domain_ids) {
+    dds::DomainObserverOptions options;
+    options.domain_id = domain;
+    options.qos_profile = config_.qos_profile;
+    options.device_filter = config_.device_filter;
+    options.transport = config_.transport == "network"        ? qos::Transport::Builtin
+                        : config_.transport == "loopback-udp" ? qos::Transport::LoopbackUdp
+                                                              : qos::Transport::Loopback;
+    options.timing.heartbeat = config_.heartbeat;
+    options.timing.missed_heartbeats = config_.missed_heartbeats;
+    // Callbacks run on the observer's dispatch thread; the agent's ingest
+    // is thread-safe and takes its lock only for the append.
+    MtconnectAgent* agent = agent_.get();
+    dds::DomainObserverCallbacks callbacks;
+    callbacks.on_device = [agent](const dds::ObservedDevice& device) { agent->add_device(device); };
+    callbacks.on_value = [agent](const dds::ObservedValue& value) { agent->add_value(value); };
+    callbacks.on_items_lost = [agent](const std::string& uuid,
+                                      const std::vector<std::string>& items) {
+      agent->items_lost(uuid, items);
+    };
+    callbacks.on_device_lost = [agent](const std::string& uuid) { agent->device_lost(uuid); };
+    observers_.push_back(std::make_unique<dds::DomainObserver>(options, std::move(callbacks)));
+  }
+}
+
+void BridgeApp::run(std::ostream& log) {
+  boost::asio::io_context signals_context(1);
+  boost::asio::signal_set signals(signals_context, SIGINT, SIGTERM);
+  int received = 0;
+  signals.async_wait([&](const boost::system::error_code& ec, int signal) {
+    if (!ec) received = signal;
+  });
+  server_->start();
+
+  std::ostringstream domains;
+  for (std::size_t i = 0; i < config_.domain_ids.size(); ++i) {
+    domains << (i == 0 ? "" : ",") << config_.domain_ids[i];
+  }
+  const bool v6 = server_->bind_address().find(':') != std::string::npos;
+  log << "mtc-bridge: serving MTConnect " << to_string(agent_->schema_version()) << " on http://"
+      << (v6 ? "[" : "") << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port()
+      << "/ (DDS domains " << domains.str() << "; devices from "
+      << (config_.devices_file.empty() ? std::string("DDS announcements") : config_.devices_file)
+      << ")" << std::endl;
+
+  signals_context.run();  // until a signal arrives
+  log << "mtc-bridge: signal " << received << ", stopping" << std::endl;
+  observers_.clear();
+  server_->stop();
+  log << "mtc-bridge: stopped" << std::endl;
+}
+
+}  // namespace mtc::bridge

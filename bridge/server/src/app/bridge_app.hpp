@@ -1,0 +1,49 @@
+// The mtc-bridge process: one MtconnectAgent fed by a DomainObserver per DDS
+// domain, served over HTTP until SIGINT/SIGTERM.
+#pragma once
+
+#include <memory>
+#include <ostream>
+#include <vector>
+
+#include "mtc/bridge/bridge_config.hpp"
+#include "mtc/bridge/http_server.hpp"
+#include "mtc/bridge/mtconnect_agent.hpp"
+#include "mtc/dds/domain_observer.hpp"
+
+namespace mtc::bridge {
+
+class BridgeApp {
+ public:
+  // Builds the agent (throws ModelError for a bad Devices file), binds the
+  // HTTP port (std::system_error) and joins the DDS domains (mtc::dds
+  // errors). Nothing is served until run().
+  explicit BridgeApp(const BridgeConfig& config);
+  ~BridgeApp();
+  BridgeApp(const BridgeApp&) = delete;
+  BridgeApp& operator=(const BridgeApp&) = delete;
+
+  // Serves until SIGINT or SIGTERM, then stops DDS intake first and HTTP
+  // last (streams get their closing boundary). Prints where it listens.
+  void run(std::ostream& log);
+
+  std::uint16_t port() const noexcept { return server_->port(); }
+
+ private:
+  void observe_domains();
+
+  BridgeConfig config_;
+  std::shared_ptr<MtconnectAgent> agent_;
+  std::unique_ptr<HttpServer> server_;
+  std::vector<std::unique_ptr<dds::DomainObserver>> observers_;
+};
+
+// AgentOptions from the configuration (buffer 2^BufferSize, Devices, ...).
+AgentOptions agent_options(const BridgeConfig& config);
+
+// ServerOptions from the configuration, with MTConnectError documents for
+// the errors the server finds itself, printed like the agent's own.
+ServerOptions server_options(const BridgeConfig& config,
+                             const std::shared_ptr<MtconnectAgent>& agent);
+
+}  // namespace mtc::bridge
