@@ -78,8 +78,11 @@ ServiceMachine::ServiceMachine(Role role, Service service, const MachineOptions&
   phase_ = resolve(Target::Idle);
 }
 
+// Whether a counterpart value acknowledges our FAIL. A FAIL counts only when
+// it is fresh: a FAIL we already answered in an earlier episode (the
+// counterpart's value may be stale, its owner already recovering) does not.
 bool ServiceMachine::counterpart_acknowledges(InteractionState s) const noexcept {
-  if (s == InteractionState::Fail) return true;
+  if (s == InteractionState::Fail) return fail_pending_ || phase_ == Phase::Fail;
   if (s != InteractionState::Ready && s != InteractionState::NotReady) return false;
   // A counterpart with no FAIL state cannot show FAIL; being out of
   // ACTIVE/COMPLETE is all it can do. Under 1.3 the request acknowledges a
@@ -162,8 +165,11 @@ void ServiceMachine::enter(Phase next, TimePoint now) noexcept {
       completion_ack_reported_ = false;
       break;
     case Phase::Fail:
-      // Entering FAIL because the counterpart is FAIL acknowledges at once.
-      acknowledged_ = counterpart_acknowledges(counterpart_);
+      // Entering FAIL because the counterpart went FAIL acknowledges at once;
+      // a FAIL of the counterpart that we already answered does not.
+      acknowledged_ = counterpart_ == InteractionState::Fail
+                          ? fail_pending_
+                          : counterpart_acknowledges(counterpart_);
       ack_waived_ = false;
       fail_pending_ = false;
       break;
@@ -201,7 +207,13 @@ StepResult ServiceMachine::step(Event event, TimePoint now) noexcept {
     if (observed == counterpart_) return make_result(event, before, Notice::None, Reason::None);
     counterpart_ = observed;
     counterpart_lost_ = observed == InteractionState::Unavailable;
-    fail_pending_ = observed == InteractionState::Fail;
+    // A change to FAIL needs our reaction (Tables 5/6 condition 2) unless it
+    // is the acknowledgement of our own unacknowledged FAIL. If ours was
+    // already acknowledged, the counterpart has failed anew (it recovered
+    // and failed again while we were still in FAIL): we answer that after
+    // our own recovery (see next_deadline).
+    fail_pending_ = observed == InteractionState::Fail &&
+                    (phase_ != Phase::Fail || acknowledged_);
   }
   const TransitionTable table = role_ == Role::Requester ? requester_table() : responder_table();
   const Transition row =
@@ -294,11 +306,22 @@ static Armed earliest(const ServiceMachine& m, bool engaged, bool acked, bool re
   return armed;
 }
 
+// A counterpart FAIL still waiting for our reaction while we are idle (we
+// were in FAIL ourselves when it began): react at once, on the next tick, so
+// that READY is published before FAIL and the counterpart sees a change.
+bool ServiceMachine::reaction_due() const noexcept {
+  const bool idle = phase_ == Phase::Ready || phase_ == Phase::NotReady;
+  const bool reacts = role_ == Role::Responder || options_.profile != Profile::V1_3;
+  return idle && reacts && fail_pending_ && counterpart_ == InteractionState::Fail;
+}
+
 TimePoint ServiceMachine::next_deadline() const noexcept {
+  if (reaction_due()) return since_;
   return earliest(*this, counterpart_engaged_, fail_acknowledged(), completion_ack_reported_).at;
 }
 
 StepResult ServiceMachine::on_tick(TimePoint now) noexcept {
+  if (reaction_due() && since_ <= now) return step(Event::Reevaluate, now);
   const Armed armed =
       earliest(*this, counterpart_engaged_, fail_acknowledged(), completion_ack_reported_);
   if (armed.at > now) return make_result(Event::Reevaluate, phase_, Notice::None, Reason::None);

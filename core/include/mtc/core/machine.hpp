@@ -65,7 +65,11 @@ class ServiceMachine {
   // Fires the earliest expired time limit, if any (Notice::None otherwise).
   // At most one limit per call: call again while next_deadline() <= now.
   StepResult on_tick(TimePoint now) noexcept;
-  // Earliest instant a time limit expires, kNever when none is armed.
+  // Earliest instant a time limit expires, kNever when none is armed. Also
+  // "now" (the phase's start) when a deferred reaction is due: a counterpart
+  // that failed anew while this side was in FAIL is answered right after
+  // this side's recovery (READY is published first, then FAIL, so the
+  // counterpart sees the change it waits for).
   TimePoint next_deadline() const noexcept;
 
   // --- Observers --------------------------------------------------------
@@ -86,6 +90,7 @@ class ServiceMachine {
  private:
   bool guard_holds(Guard g) const noexcept;
   bool counterpart_acknowledges(InteractionState s) const noexcept;
+  bool reaction_due() const noexcept;
   Phase resolve(Target t) const noexcept;
   void enter(Phase next, TimePoint now) noexcept;
   void apply_effects(Event event, Phase before, Notice notice) noexcept;

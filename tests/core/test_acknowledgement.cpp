@@ -1,0 +1,71 @@
+// FAIL acknowledgement across failure episodes (Tables 5/6 ACTIONS): only a
+// fresh FAIL of the counterpart acknowledges ours. Found by the randomized
+// test: a FAIL already answered in an earlier episode must not let a new
+// FAIL be cleared early.
+#include <gtest/gtest.h>
+
+#include "machine_fixtures.hpp"
+
+namespace mtc::core::testing_support {
+namespace {
+
+using S = InteractionState;
+using N = Notice;
+using R = Reason;
+
+TEST(Acknowledgement, AnsweredFailOfAnEarlierEpisodeDoesNotAcknowledge) {
+  Responder rs(Service::MaterialLoad);
+  const TimePoint t{};
+  rs.on_counterpart(S::Ready, t);
+  rs.on_counterpart(S::Fail, t);  // episode 1: request FAIL, response follows
+  ASSERT_EQ(rs.state(), S::Fail);
+  ASSERT_TRUE(rs.fail_acknowledged());
+  ASSERT_EQ(rs.recover(S::Ready, t).current, S::Ready);
+  // The requester has recovered too, but its READY is still in flight: the
+  // responder still sees the old FAIL when it fails on its own.
+  const auto f = rs.fail(t);
+  EXPECT_EQ(f.current, S::Fail);
+  EXPECT_FALSE(rs.fail_acknowledged()) << "that FAIL was the previous episode's";
+  EXPECT_EQ(rs.recover(S::Ready, t).reason, R::FailNotAcknowledged);
+  rs.on_counterpart(S::Ready, t);                                  // the late READY
+  EXPECT_EQ(rs.on_counterpart(S::Fail, t).notice, N::FailAcknowledged);  // the real ack
+}
+
+TEST(Acknowledgement, CounterpartFailingAnewWhileWeAreInFailIsAnsweredAfterRecovery) {
+  Requester rq(Service::MaterialLoad);
+  const TimePoint t{};
+  rq.on_counterpart(S::Ready, t);
+  rq.fail(t);
+  EXPECT_EQ(rq.on_counterpart(S::Fail, t).notice, N::FailAcknowledged);
+  // The responder recovers and fails again before it saw us recover; it
+  // waits for our change to FAIL, which we cannot show while in FAIL.
+  rq.on_counterpart(S::Ready, t);
+  EXPECT_EQ(rq.on_counterpart(S::Fail, t).notice, N::None);
+  const auto rec = rq.recover(S::Ready, t + std::chrono::seconds(1));
+  EXPECT_EQ(rec.current, S::Ready) << "READY is published first";
+  EXPECT_EQ(rq.next_deadline(), t + std::chrono::seconds(1)) << "reaction due at once";
+  const auto react = rq.on_tick(t + std::chrono::seconds(1));
+  EXPECT_EQ(react.current, S::Fail);
+  EXPECT_EQ(react.notice, N::CounterpartFailed);
+  EXPECT_TRUE(rq.fail_acknowledged());
+  EXPECT_EQ(rq.next_deadline(), kNever);
+}
+
+TEST(Acknowledgement, PairSettlesAfterCrossedFailures) {
+  Pair p;
+  p.requester.fail(p.now);
+  p.responder.fail(p.now);  // independent failures cross on the wire
+  EXPECT_EQ(p.to_requester().notice, N::FailAcknowledged);
+  EXPECT_EQ(p.to_responder().notice, N::FailAcknowledged);
+  p.requester.recover(S::Ready, p.now);
+  p.responder.recover(S::Ready, p.now);
+  p.to_requester();
+  p.to_responder();
+  EXPECT_EQ(p.requester.state(), S::Ready);
+  EXPECT_EQ(p.responder.state(), S::Ready);
+  EXPECT_EQ(p.requester.next_deadline(), kNever);
+  EXPECT_EQ(p.responder.next_deadline(), kNever);
+}
+
+}  // namespace
+}  // namespace mtc::core::testing_support
