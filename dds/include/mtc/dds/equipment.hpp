@@ -1,0 +1,279 @@
+// The runtime a piece of equipment links: one Equipment object per device.
+//
+//   mtc::dds::EquipmentOptions o;
+//   o.domain_id = 0; o.device_uuid = "cnc-1"; o.device_name = "CNC";
+//   mtc::dds::Equipment cnc(o);
+//   cnc.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {"robot-1", ""}});
+//   auto& load = cnc.add_requester("mh1", core::Service::MaterialLoad);
+//   cnc.start();
+//   RequestResult r = load.request().get();   // COMPLETE, FAIL, timed out, comms lost
+//
+// The library publishes this device's data items (one DDS instance each, in
+// partition "mtc/dev/<uuid>", re-published every heartbeat) and a
+// DeviceDescription, subscribes to the counterpart's items, and runs the
+// core state machines (Tables 5/6, scenarios 1-6) against what it sees.
+//
+// Threading: every application callback runs on this object's single
+// executor thread, in order; DDS listeners only copy and hand off; the core
+// machines and timers (time limits, heartbeat) are touched only on that
+// thread. Commands (request(), complete(), ...) may be called from any
+// thread, including from callbacks; they return futures that become ready
+// once the executor has applied them. Never block on such a future inside a
+// callback (the executor would wait for itself).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mtc/core/interface_model.hpp"
+#include "mtc/core/profile.hpp"
+#include "mtc/core/result.hpp"
+#include "mtc/core/vocabulary.hpp"
+#include "mtc/dds/domain_observer.hpp"
+#include "mtc/dds/error.hpp"
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/timing.hpp"
+
+namespace mtc::dds {
+
+// Who clears a FAIL (Part 5: "resets any partial actions ... then READY").
+enum class RecoveryPolicy : std::uint8_t {
+  // The application calls recover() after every FAIL.
+  Manual,
+  // Default. FAILs with nothing to reset clear to READY by themselves once
+  // the counterpart acknowledged them and communication is up: a FAIL caused
+  // by loss of communication (scenario 6), or a counterpart FAIL seen while
+  // this side was idle. Failures during a service wait for recover().
+  AfterCommsLoss,
+  // Every FAIL clears to READY once acknowledged and communication is up.
+  Always,
+};
+
+// How a request ended.
+enum class Outcome : std::uint8_t {
+  Completed,  // the responder reported COMPLETE; the request is READY again
+  Failed,     // responder FAIL, unexpected state change, protocol violation, fail()
+  TimedOut,   // a configured time limit expired (core::TimeLimits)
+  CommsLost,  // the counterpart was lost while the request was ACTIVE
+  Rejected,   // the request was not issued (reason says why: NotReady, CounterpartBusy...)
+};
+std::string_view to_string(Outcome o) noexcept;
+
+struct RequestResult {
+  Outcome outcome = Outcome::Rejected;
+  core::Reason reason = core::Reason::None;
+  std::chrono::nanoseconds elapsed{0};  // request() to outcome, steady clock
+};
+
+struct RequestOptions {
+  // When the counterpart is not READY yet (not discovered, busy, recovering),
+  // wait up to this long for it instead of rejecting at once.
+  std::chrono::milliseconds wait_for_ready{0};
+};
+
+// Which device/interface one of our interfaces pairs with. Empty fields are
+// discovered: the first device (with that uuid, if given) that announces an
+// interface of the same type (with that id, if given) carrying the opposite
+// side of one of our services.
+struct CounterpartSpec {
+  std::string device_uuid;
+  std::string interface_id;
+};
+
+struct InterfaceConfig {
+  std::string id;  // unique within the device, e.g. "mh1"
+  core::InterfaceType type = core::InterfaceType::MaterialHandler;
+  std::string name;  // defaults to id
+  CounterpartSpec counterpart;
+  // This equipment controls the door / chuck: it publishes DOOR_STATE /
+  // CHUCK_STATE for this interface and its responders obey them (OPEN_DOOR is
+  // NOT_READY while the door is OPEN, core::DoorChuckPreconditions).
+  bool publishes_door_state = false;
+  bool publishes_chuck_state = false;
+  core::DoorState initial_door_state = core::DoorState::Unavailable;
+  core::ChuckState initial_chuck_state = core::ChuckState::Unavailable;
+};
+
+struct ServiceOptions {
+  core::TimeLimits limits{};
+  bool start_ready = true;
+  bool counterpart_has_fail = true;
+  // Responder: accept an observed request at once (when permitted) and then
+  // call on_request; false: on_request is called on observation and the
+  // application calls accept() itself.
+  bool auto_accept = true;
+};
+
+// One step of one of this equipment's service machines, with timestamps for
+// latency measurement (all *_ns are CLOCK_REALTIME ns since the epoch; 0 = n/a).
+struct TransitionEvent {
+  std::string interface_id;
+  core::StepResult step;  // service, role, event, previous, current, notice, reason
+  core::InteractionState counterpart = core::InteractionState::Unavailable;
+  std::int64_t trigger_source_time_ns = 0;   // counterpart's change time (Seen* events)
+  std::int64_t trigger_receive_time_ns = 0;  // when our listener received that sample
+  std::int64_t step_time_ns = 0;             // when the executor ran the step
+  std::int64_t publish_time_ns = 0;          // when our new state was written (if changed)
+};
+
+enum class LinkState : std::uint8_t {
+  Unpaired,  // no counterpart chosen yet
+  Paired,    // counterpart known, none of its values seen yet
+  Up,        // counterpart values arriving
+  Lost,      // liveliness/deadline lost, disposed, or its INTERFACE_STATE UNAVAILABLE
+};
+std::string_view to_string(LinkState s) noexcept;
+
+struct LinkEvent {
+  std::string interface_id;
+  std::string counterpart_uuid;
+  std::string counterpart_interface_id;
+  LinkState previous = LinkState::Unpaired;
+  LinkState current = LinkState::Unpaired;
+  std::string cause;          // "liveliness lost", "deadline missed", "disposed", ...
+  std::int64_t time_ns = 0;   // CLOCK_REALTIME when the executor handled it
+  // For Lost: time since the last sample from the counterpart (detection time).
+  std::chrono::nanoseconds silence{0};
+};
+
+struct EquipmentCallbacks {
+  std::function<void(const TransitionEvent&)> on_transition;
+  std::function<void(const LinkEvent&)> on_link;
+  // Every value of a paired counterpart (interaction items, INTERFACE_STATE,
+  // DOOR_STATE, CHUCK_STATE), heartbeats included (heartbeat_count > 0).
+  std::function<void(const ObservedValue&)> on_counterpart_value;
+  // Diagnostics: incompatible QoS offered by a peer, callback exceptions.
+  std::function<void(const std::string&)> on_diagnostic;
+};
+
+struct EquipmentOptions {
+  int domain_id = 0;
+  std::string device_uuid;
+  std::string device_name;  // defaults to device_uuid
+  qos::Timing timing;       // heartbeat, lease, RTPS heartbeat, discovery
+  qos::Transport transport = qos::Transport::Loopback;
+  qos::FaultInjection faults;  // qos::Transport::LoopbackTest only
+  core::Profile profile = core::Profile::V1_6;
+  RecoveryPolicy recovery = RecoveryPolicy::AfterCommsLoss;
+};
+
+class Equipment;
+struct EquipmentImpl;
+
+// One side (requester or responder) of one service on one interface. Owned
+// by its Equipment; valid as long as the Equipment.
+class ServiceHandle {
+ public:
+  const std::string& interface_id() const noexcept;
+  core::Service service() const noexcept;
+  core::Role role() const noexcept;
+  // Latest published state / counterpart state (thread-safe snapshots).
+  core::InteractionState state() const noexcept;
+  core::InteractionState counterpart_state() const noexcept;
+
+  // Commands (any thread). The future holds the machine's StepResult; a
+  // refused command has notice Rejected and a reason, nothing changes.
+  std::future<core::StepResult> fail();
+  std::future<core::StepResult> recover(
+      core::InteractionState target = core::InteractionState::Ready);
+  std::future<core::StepResult> set_ready(bool ready);
+
+  ServiceHandle(const ServiceHandle&) = delete;
+  ServiceHandle& operator=(const ServiceHandle&) = delete;
+  virtual ~ServiceHandle() = default;
+
+ protected:
+  ServiceHandle(EquipmentImpl& impl, std::size_t slot) noexcept : impl_(impl), slot_(slot) {}
+  std::future<core::StepResult> command(core::Event event);
+  EquipmentImpl& impl_;
+  std::size_t slot_;
+  friend struct EquipmentImpl;
+};
+
+class Requester final : public ServiceHandle {
+ public:
+  // READY -> ACTIVE, then waits for COMPLETE / FAIL / time limit / comms loss.
+  // The request returns to READY by itself after COMPLETE (Table 1 step 5).
+  std::future<RequestResult> request(RequestOptions options = {});
+  // Same, with a callback on the executor thread instead of a future.
+  void request(RequestOptions options, std::function<void(const RequestResult&)> on_result);
+
+ private:
+  using ServiceHandle::ServiceHandle;
+  friend struct EquipmentImpl;
+  friend class Equipment;
+};
+
+class Responder;
+
+struct ResponderCallbacks {
+  // A request arrived. With ServiceOptions::auto_accept (default) the
+  // response is already ACTIVE: do the work, then complete() or fail().
+  // Without it, call accept() (or leave it and let the requester time out).
+  std::function<void(Responder&)> on_request;
+  // The service in progress ended without complete(): the requester failed
+  // or left ACTIVE (scenarios 3, 4), communication was lost (6), or a time
+  // limit expired. Reset partial actions; see RecoveryPolicy.
+  std::function<void(Responder&, core::Reason)> on_abort;
+};
+
+class Responder final : public ServiceHandle {
+ public:
+  std::future<core::StepResult> accept();
+  std::future<core::StepResult> complete();
+
+ private:
+  using ServiceHandle::ServiceHandle;
+  friend struct EquipmentImpl;
+  friend class Equipment;
+};
+
+class Equipment {
+ public:
+  // Validates the options (ConfigError); creates nothing on the network yet.
+  explicit Equipment(EquipmentOptions options, EquipmentCallbacks callbacks = {});
+  // Disposes this device's data items (peers see them UNAVAILABLE at once),
+  // stops the executor and deletes every DDS entity.
+  ~Equipment();
+  Equipment(const Equipment&) = delete;
+  Equipment& operator=(const Equipment&) = delete;
+
+  // --- Declaration (before start(); ConfigError on bad input) -------------
+  void add_interface(InterfaceConfig config);
+  Requester& add_requester(const std::string& interface_id, core::Service service,
+                           ServiceOptions options = {});
+  Responder& add_responder(const std::string& interface_id, core::Service service,
+                           ResponderCallbacks callbacks, ServiceOptions options = {});
+  // Creates the participant, writers and readers, publishes the initial
+  // states and the DeviceDescription, starts the executor. Throws Error.
+  void start();
+
+  // --- Runtime (any thread, after start()) --------------------------------
+  std::future<void> set_interface_state(const std::string& interface_id,
+                                        core::InterfaceState state);
+  std::future<void> set_door_state(const std::string& interface_id, core::DoorState state);
+  std::future<void> set_chuck_state(const std::string& interface_id, core::ChuckState state);
+  // Runs `task` on the executor thread (after everything queued before it).
+  void post(std::function<void()> task);
+
+  // --- Lookup and snapshots (thread-safe) ---------------------------------
+  Requester* requester(const std::string& interface_id, core::Service service) const noexcept;
+  Responder* responder(const std::string& interface_id, core::Service service) const noexcept;
+  LinkState link_state(const std::string& interface_id) const;
+  // The paired counterpart of an interface, once known.
+  std::optional<CounterpartSpec> counterpart(const std::string& interface_id) const;
+  const EquipmentOptions& options() const noexcept;
+  bool started() const noexcept;
+
+ private:
+  std::unique_ptr<EquipmentImpl> impl_;
+};
+
+}  // namespace mtc::dds

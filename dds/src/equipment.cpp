@@ -1,0 +1,324 @@
+// Equipment: declaration, lifecycle and the thread-safe command surface.
+// Commands are posted to the executor; the machines are never touched here.
+#include <algorithm>
+
+#include "equipment_impl.hpp"
+#include "mtc/dds/topics.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace mtc::dds {
+
+std::string_view to_string(Outcome o) noexcept {
+  switch (o) {
+    case Outcome::Completed: return "COMPLETED";
+    case Outcome::Failed: return "FAILED";
+    case Outcome::TimedOut: return "TIMED_OUT";
+    case Outcome::CommsLost: return "COMMS_LOST";
+    case Outcome::Rejected: return "REJECTED";
+  }
+  return "?";
+}
+
+std::string_view to_string(LinkState s) noexcept {
+  switch (s) {
+    case LinkState::Unpaired: return "UNPAIRED";
+    case LinkState::Paired: return "PAIRED";
+    case LinkState::Up: return "UP";
+    case LinkState::Lost: return "LOST";
+  }
+  return "?";
+}
+
+// Runs fn() -> R on the executor and returns its result as a future.
+template <typename R, typename Fn>
+std::future<R> EquipmentImpl::run(Fn fn) {
+  if (!started.load()) {
+    throw ConfigError("Equipment " + options.device_uuid + ": call start() first");
+  }
+  auto promise = std::make_shared<std::promise<R>>();
+  auto future = promise->get_future();
+  executor.post([promise, fn = std::move(fn)]() mutable {
+    try {
+      if constexpr (std::is_void_v<R>) {
+        fn();
+        promise->set_value();
+      } else {
+        promise->set_value(fn());
+      }
+    } catch (...) {
+      promise->set_exception(std::current_exception());
+    }
+  });
+  return future;
+}
+
+// ------------------------------------------------------------ ServiceHandle
+
+const std::string& ServiceHandle::interface_id() const noexcept {
+  return impl_.interfaces[impl_.slots[slot_]->interface_index]->config.id;
+}
+core::Service ServiceHandle::service() const noexcept { return impl_.slots[slot_]->service; }
+core::Role ServiceHandle::role() const noexcept { return impl_.slots[slot_]->role; }
+core::InteractionState ServiceHandle::state() const noexcept {
+  return impl_.slots[slot_]->snap_state.load();
+}
+core::InteractionState ServiceHandle::counterpart_state() const noexcept {
+  return impl_.slots[slot_]->snap_counterpart.load();
+}
+
+std::future<core::StepResult> ServiceHandle::command(core::Event event) {
+  auto* impl = &impl_;
+  const auto slot = slot_;
+  return impl_.run<core::StepResult>([impl, slot, event] {
+    auto& s = *impl->slots[slot];
+    const auto now = SteadyClock::now();
+    auto r = impl->apply(s, event, now);
+    impl->auto_recover(s, now);
+    return r;
+  });
+}
+
+std::future<core::StepResult> ServiceHandle::fail() { return command(core::Event::Fail); }
+std::future<core::StepResult> ServiceHandle::recover(core::InteractionState target) {
+  return command(target == core::InteractionState::NotReady ? core::Event::RecoverNotReady
+                                                            : core::Event::RecoverReady);
+}
+std::future<core::StepResult> ServiceHandle::set_ready(bool ready) {
+  return command(ready ? core::Event::SetReady : core::Event::SetNotReady);
+}
+std::future<core::StepResult> Responder::accept() { return command(core::Event::Accept); }
+std::future<core::StepResult> Responder::complete() { return command(core::Event::Complete); }
+
+void Requester::request(RequestOptions options,
+                        std::function<void(const RequestResult&)> on_result) {
+  auto* impl = &impl_;
+  const auto slot = slot_;
+  impl_.run<void>([impl, slot, options, cb = std::move(on_result)]() mutable {
+    auto& s = *impl->slots[slot];
+    const auto now = SteadyClock::now();
+    auto reject = [&](core::Reason reason) {
+      RequestResult r{Outcome::Rejected, reason, {}};
+      if (cb) impl->guard_callback("request result", [&] { cb(r); });
+    };
+    if (s.pending) {
+      reject(core::Reason::AlreadyActive);
+      return;
+    }
+    PendingRequest p;
+    p.callback = std::move(cb);
+    p.started = now;
+    p.ready_deadline = now + options.wait_for_ready;
+    s.pending = std::move(p);
+    impl->try_issue(s, now);
+  });
+}
+
+std::future<RequestResult> Requester::request(RequestOptions options) {
+  auto promise = std::make_shared<std::promise<RequestResult>>();
+  auto future = promise->get_future();
+  request(options, [promise](const RequestResult& r) { promise->set_value(r); });
+  return future;
+}
+
+// ---------------------------------------------------------------- Equipment
+
+Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
+    : impl_(std::make_unique<EquipmentImpl>()) {
+  if (auto problem = topics::check_device_uuid(options.device_uuid)) {
+    throw ConfigError("Equipment: " + *problem);
+  }
+  if (options.domain_id < 0 || options.domain_id > qos::kMaxDomainId) {
+    throw ConfigError("Equipment: domain id " + std::to_string(options.domain_id) +
+                      " outside 0.." + std::to_string(qos::kMaxDomainId));
+  }
+  try {
+    qos::validate(options.timing);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(std::string("Equipment: ") + e.what());
+  }
+  if (options.device_name.empty()) options.device_name = options.device_uuid;
+  impl_->options = std::move(options);
+  impl_->callbacks = std::move(callbacks);
+}
+
+Equipment::~Equipment() { impl_->shutdown(); }
+
+InterfaceSlot& EquipmentImpl::interface_slot(const std::string& id) const {
+  for (const auto& itf : interfaces) {
+    if (itf->config.id == id) return *itf;
+  }
+  throw ConfigError("Equipment " + options.device_uuid + ": no interface \"" + id + "\"");
+}
+
+void Equipment::add_interface(InterfaceConfig config) {
+  if (impl_->started) throw ConfigError("add_interface after start()");
+  if (auto problem = topics::check_interface_id(config.id)) throw ConfigError(*problem);
+  for (const auto& itf : impl_->interfaces) {
+    if (itf->config.id == config.id) {
+      throw ConfigError("interface \"" + config.id + "\" declared twice");
+    }
+  }
+  if (!config.counterpart.device_uuid.empty()) {
+    if (auto problem = topics::check_device_uuid(config.counterpart.device_uuid)) {
+      throw ConfigError("counterpart of " + config.id + ": " + *problem);
+    }
+    if (config.counterpart.device_uuid == impl_->options.device_uuid) {
+      throw ConfigError("interface " + config.id + " cannot pair with its own device");
+    }
+  }
+  if (config.name.empty()) config.name = config.id;
+  auto itf = std::make_unique<InterfaceSlot>();
+  itf->door = config.initial_door_state;
+  itf->chuck = config.initial_chuck_state;
+  // A door/chuck this equipment does not control never blocks its services
+  // (UNLATCHED permits both directions).
+  itf->hook.set_door_state(config.publishes_door_state ? itf->door : core::DoorState::Unlatched);
+  itf->hook.set_chuck_state(config.publishes_chuck_state ? itf->chuck
+                                                         : core::ChuckState::Unlatched);
+  itf->state_item.id = topics::interface_state_item_id(config.id);
+  itf->door_item.id = topics::door_state_item_id(config.id);
+  itf->chuck_item.id = topics::chuck_state_item_id(config.id);
+  itf->config = std::move(config);
+  impl_->interfaces.push_back(std::move(itf));
+}
+
+std::size_t EquipmentImpl::add_slot(const std::string& interface_id, core::Service service,
+                                    core::Role role, const ServiceOptions& opts) {
+  if (started) throw ConfigError("add_requester/add_responder after start()");
+  auto& itf = interface_slot(interface_id);
+  for (auto index : itf.services) {
+    if (slots[index]->service == service && slots[index]->role == role) {
+      throw ConfigError("interface " + interface_id + " already has the " +
+                        std::string(core::to_string(role)) + " of " +
+                        std::string(core::to_string(service)));
+    }
+  }
+  auto slot = std::make_unique<ServiceSlot>();
+  slot->interface_index = static_cast<std::size_t>(
+      std::find_if(interfaces.begin(), interfaces.end(),
+                   [&](const auto& p) { return p.get() == &itf; }) -
+      interfaces.begin());
+  slot->service = service;
+  slot->role = role;
+  slot->options = opts;
+  slot->item.id = topics::interaction_item_id(
+      interface_id, service, role == core::Role::Requester ? core::SubType::Request
+                                                           : core::SubType::Response);
+  const auto index = slots.size();
+  itf.services.push_back(index);
+  slots.push_back(std::move(slot));
+  return index;
+}
+
+Requester& Equipment::add_requester(const std::string& interface_id, core::Service service,
+                                    ServiceOptions options) {
+  const auto index = impl_->add_slot(interface_id, service, core::Role::Requester, options);
+  auto& slot = *impl_->slots[index];
+  slot.handle.reset(new Requester(*impl_, index));
+  return static_cast<Requester&>(*slot.handle);
+}
+
+Responder& Equipment::add_responder(const std::string& interface_id, core::Service service,
+                                    ResponderCallbacks callbacks, ServiceOptions options) {
+  const auto index = impl_->add_slot(interface_id, service, core::Role::Responder, options);
+  auto& slot = *impl_->slots[index];
+  slot.responder_callbacks = std::move(callbacks);
+  slot.handle.reset(new Responder(*impl_, index));
+  return static_cast<Responder&>(*slot.handle);
+}
+
+void Equipment::start() {
+  if (impl_->started) throw ConfigError("Equipment::start() called twice");
+  if (impl_->interfaces.empty()) {
+    throw ConfigError("Equipment " + impl_->options.device_uuid + ": no interface declared");
+  }
+  impl_->create_entities();
+  impl_->started = true;
+}
+
+std::future<void> Equipment::set_interface_state(const std::string& interface_id,
+                                                 core::InterfaceState state) {
+  auto* impl = impl_.get();
+  auto* itf = &impl->interface_slot(interface_id);
+  return impl->run<void>([impl, itf, state] {
+    const auto now = SteadyClock::now();
+    const auto batch = itf->model->set_interface_state(state, now);
+    impl->publish_interface_state(*itf, false, topics::realtime_ns());
+    impl->handle_batch(*itf, batch);
+  });
+}
+
+std::future<void> Equipment::set_door_state(const std::string& interface_id,
+                                            core::DoorState state) {
+  auto* impl = impl_.get();
+  auto* itf = &impl->interface_slot(interface_id);
+  if (!itf->config.publishes_door_state) {
+    throw ConfigError("interface " + interface_id + " does not publish DOOR_STATE");
+  }
+  return impl->run<void>([impl, itf, state] {
+    itf->door = state;
+    itf->hook.set_door_state(state);
+    impl->publish_door(*itf, false, topics::realtime_ns());
+    impl->handle_batch(*itf, itf->model->reevaluate(SteadyClock::now()));
+  });
+}
+
+std::future<void> Equipment::set_chuck_state(const std::string& interface_id,
+                                             core::ChuckState state) {
+  auto* impl = impl_.get();
+  auto* itf = &impl->interface_slot(interface_id);
+  if (!itf->config.publishes_chuck_state) {
+    throw ConfigError("interface " + interface_id + " does not publish CHUCK_STATE");
+  }
+  return impl->run<void>([impl, itf, state] {
+    itf->chuck = state;
+    itf->hook.set_chuck_state(state);
+    impl->publish_chuck(*itf, false, topics::realtime_ns());
+    impl->handle_batch(*itf, itf->model->reevaluate(SteadyClock::now()));
+  });
+}
+
+void Equipment::post(std::function<void()> task) {
+  auto* impl = impl_.get();
+  impl->run<void>([impl, task = std::move(task)] {
+    impl->guard_callback("posted task", task);
+  });
+}
+
+Requester* Equipment::requester(const std::string& interface_id,
+                                core::Service service) const noexcept {
+  for (const auto& s : impl_->slots) {
+    if (s->service == service && s->role == core::Role::Requester &&
+        impl_->interfaces[s->interface_index]->config.id == interface_id) {
+      return static_cast<Requester*>(s->handle.get());
+    }
+  }
+  return nullptr;
+}
+
+Responder* Equipment::responder(const std::string& interface_id,
+                                core::Service service) const noexcept {
+  for (const auto& s : impl_->slots) {
+    if (s->service == service && s->role == core::Role::Responder &&
+        impl_->interfaces[s->interface_index]->config.id == interface_id) {
+      return static_cast<Responder*>(s->handle.get());
+    }
+  }
+  return nullptr;
+}
+
+LinkState Equipment::link_state(const std::string& interface_id) const {
+  return impl_->interface_slot(interface_id).link.load();
+}
+
+std::optional<CounterpartSpec> Equipment::counterpart(const std::string& interface_id) const {
+  auto& itf = impl_->interface_slot(interface_id);
+  std::lock_guard<std::mutex> lock(impl_->binding_mutex);
+  if (itf.cp_uuid.empty() || itf.cp_interface.empty()) return std::nullopt;
+  return CounterpartSpec{itf.cp_uuid, itf.cp_interface};
+}
+
+const EquipmentOptions& Equipment::options() const noexcept { return impl_->options; }
+bool Equipment::started() const noexcept { return impl_->started; }
+
+}  // namespace mtc::dds

@@ -1,0 +1,209 @@
+// Equipment: what the DDS readers saw, interpreted on the executor thread:
+// counterpart discovery and pairing, counterpart values fed to the machines,
+// and loss / return of communication (scenario 6).
+#include "equipment_impl.hpp"
+#include "mtc/dds/topics.hpp"
+
+namespace mtc::dds {
+
+using detail::TopicKind;
+
+void EquipmentImpl::on_event(detail::TapEvent& event) {
+  std::visit(
+      [this](auto& e) {
+        using T = std::decay_t<decltype(e)>;
+        if constexpr (std::is_same_v<T, detail::ValueEvent>) {
+          on_value(e);
+        } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
+          on_device(e);
+        } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
+          on_gone(e.topic, e.instance, "disposed or no writers");
+        } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
+          if (!e.alive) on_writer_lost(e.writer, "writer liveliness lost or unmatched");
+        } else if constexpr (std::is_same_v<T, detail::DeadlineMissedEvent>) {
+          on_gone(e.topic, e.instance, "deadline missed");
+        } else {
+          diagnostic(std::string("a peer's writer on ") + detail::topic_name(e.topic) +
+                     " offers incompatible QoS (policy id " + e.policy +
+                     "); check its heartbeat/lease against ours");
+        }
+      },
+      event);
+}
+
+void EquipmentImpl::bind_configured() {
+  for (auto& itf : interfaces) {
+    const auto& spec = itf->config.counterpart;
+    if (!spec.device_uuid.empty() && !spec.interface_id.empty()) {
+      try_bind(*itf, spec.device_uuid, spec.interface_id);
+    }
+  }
+}
+
+bool EquipmentImpl::try_bind(InterfaceSlot& itf, const std::string& device,
+                             const std::string& interface_id) {
+  if (itf.link.load() != LinkState::Unpaired) return false;
+  {
+    std::lock_guard<std::mutex> lock(binding_mutex);
+    itf.cp_uuid = device;
+    itf.cp_interface = interface_id;
+  }
+  set_link(itf, LinkState::Paired, "paired with " + device + "/" + interface_id);
+  return true;
+}
+
+namespace {
+
+// True when the announced interface carries the opposite side of at least
+// one of our services (or we declared none: pairing by type alone).
+bool complements(const EquipmentImpl& impl, const InterfaceSlot& itf,
+                 const ObservedInterface& other) {
+  if (other.type != itf.config.type) return false;
+  if (itf.services.empty()) return true;
+  for (auto index : itf.services) {
+    const auto& s = *impl.slots[index];
+    const auto wanted = s.role == core::Role::Requester ? "RESPONSE" : "REQUEST";
+    for (const auto& item : other.data_items) {
+      if (item.type == core::to_string(s.service) && item.sub_type == wanted) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+void EquipmentImpl::on_device(detail::DeviceEvent& e) {
+  const auto& d = e.device;
+  if (d.device_uuid == options.device_uuid) return;
+  writer_device[e.writer] = d.device_uuid;
+  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", ""};
+  for (auto& itf : interfaces) {
+    if (itf->link.load() != LinkState::Unpaired) continue;
+    const auto& spec = itf->config.counterpart;
+    if (!spec.device_uuid.empty() && spec.device_uuid != d.device_uuid) continue;
+    for (const auto& other : d.interfaces) {
+      if (!spec.interface_id.empty() && other.id != spec.interface_id) continue;
+      if (complements(*this, *itf, other)) {
+        try_bind(*itf, d.device_uuid, other.id);
+        break;
+      }
+    }
+  }
+}
+
+void EquipmentImpl::on_value(detail::ValueEvent& e) {
+  auto& v = e.value;
+  if (v.device_uuid == options.device_uuid) return;
+  writer_device[e.writer] = v.device_uuid;
+  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id};
+  // A change number that skips ahead means this writer changed something we
+  // never saw (KEEP_LAST 1 replaced it before delivery, e.g. after a loss).
+  auto& last = writer_seq[e.writer];
+  const bool missed_change = v.heartbeat_count == 0 && last != 0 && v.sequence_number > last + 1;
+  last = std::max(last, v.sequence_number);
+
+  for (auto& itf : interfaces) {
+    // A configured counterpart device with unknown interface id pairs on
+    // its first interaction value for one of our services.
+    const auto& spec = itf->config.counterpart;
+    if (itf->link.load() == LinkState::Unpaired && spec.device_uuid == v.device_uuid &&
+        v.kind == ItemKind::Interaction && v.service && v.sub_type) {
+      const auto role = *v.sub_type == core::SubType::Request ? core::Role::Responder
+                                                              : core::Role::Requester;
+      if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
+    }
+    if (itf->cp_uuid != v.device_uuid || itf->cp_interface != v.interface_id) continue;
+    if (callbacks.on_counterpart_value) {
+      guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
+    }
+    if (v.kind == ItemKind::InterfaceState && v.value == "UNAVAILABLE") {
+      link_lost(*itf, "counterpart INTERFACE_STATE UNAVAILABLE");
+      continue;
+    }
+    itf->last_heard_ns = v.reception_time_ns;
+    if (itf->link.load() != LinkState::Up) link_up(*itf, "value received");
+    if (v.kind != ItemKind::Interaction || !v.service || !v.sub_type) continue;
+    const auto role =
+        *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
+    if (auto* slot = slot_for(*itf, *v.service, role)) feed_counterpart(*slot, v, missed_change);
+  }
+}
+
+void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
+                                     bool missed_change) {
+  auto& itf = *interfaces[slot.interface_index];
+  auto* machine = itf.model->machine(slot.service, slot.role);
+  const auto now = SteadyClock::now();
+  const auto parsed = core::parse_interaction_state(v.value);
+  core::StepResult r;
+  if (!parsed) {
+    r = machine->on_counterpart_text(v.value, now);
+  } else {
+    // The responder's ACTIVE was replaced by COMPLETE before it reached us:
+    // its change counter proves a change was skipped, so replay ACTIVE
+    // rather than calling a correct responder a protocol violator.
+    if (missed_change && slot.role == core::Role::Requester &&
+        *parsed == core::InteractionState::Complete &&
+        machine->state() == core::InteractionState::Active &&
+        machine->counterpart() != core::InteractionState::Active) {
+      handle_result(slot, machine->on_counterpart(core::InteractionState::Active, now),
+                    v.source_time_ns, v.reception_time_ns);
+    }
+    r = machine->on_counterpart(*parsed, now);
+  }
+  handle_result(slot, r, v.source_time_ns, v.reception_time_ns);
+  auto_recover(slot, now);
+  try_issue(slot, now);
+}
+
+void EquipmentImpl::on_gone(TopicKind topic, const detail::Handle& instance, const char* cause) {
+  const auto it = instance_item.find({topic, instance});
+  if (it == instance_item.end()) return;
+  const auto& owner = it->second;
+  for (auto& itf : interfaces) {
+    if (itf->cp_uuid != owner.device) continue;
+    if (topic == TopicKind::DeviceDescription) {
+      link_lost(*itf, std::string("device announcement ") + cause);
+    } else if (owner.interface_id == itf->cp_interface) {
+      link_lost(*itf, owner.item + ": " + cause);
+    }
+  }
+}
+
+void EquipmentImpl::on_writer_lost(const detail::Handle& writer, const char* cause) {
+  const auto it = writer_device.find(writer);
+  if (it == writer_device.end()) return;
+  for (auto& itf : interfaces) {
+    if (itf->cp_uuid == it->second) link_lost(*itf, cause);
+  }
+}
+
+void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {
+  if (itf.link.load() != LinkState::Up) return;
+  set_link(itf, LinkState::Lost, cause);
+  handle_batch(itf, itf.model->counterpart_lost(SteadyClock::now()));
+}
+
+void EquipmentImpl::link_up(InterfaceSlot& itf, const char* cause) {
+  set_link(itf, LinkState::Up, cause);
+}
+
+void EquipmentImpl::set_link(InterfaceSlot& itf, LinkState next, const std::string& cause) {
+  LinkEvent ev;
+  ev.interface_id = itf.config.id;
+  {
+    std::lock_guard<std::mutex> lock(binding_mutex);
+    ev.counterpart_uuid = itf.cp_uuid;
+    ev.counterpart_interface_id = itf.cp_interface;
+  }
+  ev.previous = itf.link.exchange(next);
+  ev.current = next;
+  ev.cause = cause;
+  ev.time_ns = topics::realtime_ns();
+  if (next == LinkState::Lost && itf.last_heard_ns != 0) {
+    ev.silence = std::chrono::nanoseconds(ev.time_ns - itf.last_heard_ns);
+  }
+  if (callbacks.on_link) guard_callback("on_link", [&] { callbacks.on_link(ev); });
+}
+
+}  // namespace mtc::dds

@@ -1,0 +1,172 @@
+// Internal state of an Equipment. Everything except the snapshot atomics and
+// the configuration is touched only on the executor thread.
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "domain_tap.hpp"
+#include "executor.hpp"
+#include "mtc/dds/entities.hpp"
+#include "mtc/dds/equipment.hpp"
+#include "mtc/idl/mtconnect_interfaces.h"
+
+namespace mtc::dds {
+
+using SteadyClock = std::chrono::steady_clock;
+
+struct PendingRequest {
+  std::shared_ptr<std::promise<RequestResult>> promise;
+  std::function<void(const RequestResult&)> callback;
+  SteadyClock::time_point started{};
+  SteadyClock::time_point ready_deadline{};  // waiting for the counterpart READY
+  bool issued = false;                       // the request went ACTIVE
+};
+
+// One published data item: its current value and heartbeat bookkeeping.
+struct PublishedItem {
+  std::string id;
+  std::uint64_t heartbeat_count = 0;
+  std::int64_t changed_ns = 0;  // source_time_ns of the current value
+};
+
+struct ServiceSlot {
+  std::size_t interface_index = 0;
+  core::Service service = core::Service::MaterialLoad;
+  core::Role role = core::Role::Requester;
+  ServiceOptions options;
+  ResponderCallbacks responder_callbacks;
+  std::unique_ptr<ServiceHandle> handle;
+  PublishedItem item;
+  std::optional<PendingRequest> pending;
+  // The FAIL we are in was entered while idle (nothing to reset).
+  bool idle_failure = false;
+  core::Reason fail_reason = core::Reason::None;
+  // Counterpart item: last sequence number seen from its writer.
+  std::uint64_t counterpart_seq = 0;
+  std::atomic<core::InteractionState> snap_state{core::InteractionState::Unavailable};
+  std::atomic<core::InteractionState> snap_counterpart{core::InteractionState::Unavailable};
+};
+
+struct InterfaceSlot {
+  InterfaceConfig config;
+  core::DoorChuckPreconditions hook;
+  std::unique_ptr<core::InterfaceModel> model;
+  std::vector<std::size_t> services;  // indices into EquipmentImpl::slots
+  PublishedItem state_item;
+  PublishedItem door_item;
+  PublishedItem chuck_item;
+  core::DoorState door = core::DoorState::Unavailable;
+  core::ChuckState chuck = core::ChuckState::Unavailable;
+  // Counterpart binding and link.
+  std::string cp_uuid;
+  std::string cp_interface;
+  std::int64_t last_heard_ns = 0;
+  std::atomic<LinkState> link{LinkState::Unpaired};
+};
+
+struct EquipmentImpl {
+  EquipmentOptions options;
+  EquipmentCallbacks callbacks;
+  std::vector<std::unique_ptr<InterfaceSlot>> interfaces;
+  std::vector<std::unique_ptr<ServiceSlot>> slots;
+  std::atomic<bool> started{false};
+  mutable std::mutex binding_mutex;  // guards cp_uuid / cp_interface for readers
+
+  // Writer bookkeeping: per-writer change counters (IDL sequence_number).
+  std::uint64_t request_seq = 0;
+  std::uint64_t response_seq = 0;
+  std::uint64_t interface_seq = 0;
+  std::uint64_t door_seq = 0;
+  std::uint64_t chuck_seq = 0;
+  std::uint64_t description_seq = 0;
+  SteadyClock::time_point next_heartbeat{};
+
+  // Which counterpart writer / instance belongs to which device and item.
+  std::map<detail::Handle, std::string> writer_device;
+  struct InstanceOwner {
+    std::string device;
+    std::string interface_id;
+    std::string item;
+  };
+  std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
+  std::map<detail::Handle, std::uint64_t> writer_seq;  // last change number per writer
+
+  // DDS entities, declaration order = creation order (destroyed in reverse).
+  detail::Executor executor;
+  std::unique_ptr<Participant> participant;
+  std::unique_ptr<detail::TopicSet> topics;
+  std::unique_ptr<Publisher> publisher;
+  struct QuietWriterListener : fdds::DataWriterListener {};
+  QuietWriterListener writer_listener;
+  std::unique_ptr<Writer<idl::InteractionSample>> request_writer;
+  std::unique_ptr<Writer<idl::InteractionSample>> response_writer;
+  std::unique_ptr<Writer<idl::InterfaceStateSample>> interface_writer;
+  std::unique_ptr<Writer<idl::DoorStateSample>> door_writer;
+  std::unique_ptr<Writer<idl::ChuckStateSample>> chuck_writer;
+  std::unique_ptr<Writer<idl::DeviceDescription>> description_writer;
+  std::unique_ptr<detail::DomainTap> tap;
+
+  // --- lifecycle (equipment.cpp) ---
+  InterfaceSlot& interface_slot(const std::string& id) const;
+  std::size_t add_slot(const std::string& interface_id, core::Service service, core::Role role,
+                       const ServiceOptions& options);
+  void create_entities();
+  void shutdown() noexcept;
+  template <typename R, typename Fn>
+  std::future<R> run(Fn fn);
+
+  // --- publishing (equipment_publish.cpp) ---
+  void publish_interaction(ServiceSlot& slot, bool heartbeat, std::int64_t now_ns);
+  void publish_interface_state(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
+  void publish_door(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
+  void publish_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
+  void publish_description();
+  void heartbeat(SteadyClock::time_point now);
+  void dispose_all() noexcept;
+
+  // --- machines (equipment_machines.cpp) ---
+  core::StepResult apply(ServiceSlot& slot, core::Event event, SteadyClock::time_point now,
+                         std::int64_t source_ns = 0, std::int64_t receive_ns = 0);
+  void handle_result(ServiceSlot& slot, const core::StepResult& r, std::int64_t source_ns,
+                     std::int64_t receive_ns);
+  void handle_batch(InterfaceSlot& itf, const core::StepBatch& batch);
+  void auto_recover(ServiceSlot& slot, SteadyClock::time_point now);
+  void resolve_pending(ServiceSlot& slot, const core::StepResult& r);
+  void try_issue(ServiceSlot& slot, SteadyClock::time_point now);
+  void on_wake(SteadyClock::time_point now);
+  SteadyClock::time_point next_wake() const;
+  ServiceSlot* slot_for(InterfaceSlot& itf, core::Service service, core::Role role) const;
+
+  // --- DDS events (equipment_events.cpp) ---
+  void on_event(detail::TapEvent& event);
+  void on_value(detail::ValueEvent& e);
+  void feed_counterpart(ServiceSlot& slot, const ObservedValue& v, bool missed_change);
+  void bind_configured();
+  void on_device(detail::DeviceEvent& e);
+  void on_gone(detail::TopicKind topic, const detail::Handle& instance, const char* cause);
+  void on_writer_lost(const detail::Handle& writer, const char* cause);
+  void link_lost(InterfaceSlot& itf, const std::string& cause);
+  void link_up(InterfaceSlot& itf, const char* cause);
+  void set_link(InterfaceSlot& itf, LinkState next, const std::string& cause);
+  bool try_bind(InterfaceSlot& itf, const std::string& device, const std::string& interface_id);
+  void diagnostic(const std::string& text);
+  // Application callbacks must not take the executor down.
+  template <typename Fn>
+  void guard_callback(const char* what, Fn&& fn) {
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      diagnostic(std::string(what) + " callback threw: " + e.what());
+    } catch (...) {
+      diagnostic(std::string(what) + " callback threw an unknown exception");
+    }
+  }
+};
+
+}  // namespace mtc::dds

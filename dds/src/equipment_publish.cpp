@@ -1,0 +1,280 @@
+// Equipment: DDS entities, publication of this device's data items, the
+// heartbeat and the DeviceDescription announcement.
+#include <iostream>
+
+#include "equipment_impl.hpp"
+#include "mtc/dds/topics.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace mtc::dds {
+
+namespace {
+
+bool has_role(const EquipmentImpl& impl, core::Role role) {
+  for (const auto& s : impl.slots) {
+    if (s->role == role) return true;
+  }
+  return false;
+}
+
+// Readers: the counterparts' partitions when all are known up front,
+// otherwise every device's partition (discovery).
+std::vector<std::string> reader_partitions(const EquipmentImpl& impl) {
+  std::vector<std::string> out;
+  for (const auto& itf : impl.interfaces) {
+    if (itf->config.counterpart.device_uuid.empty()) return {topics::kAllDevicesPartition};
+    out.push_back(topics::device_partition(itf->config.counterpart.device_uuid));
+  }
+  return out;
+}
+
+template <typename Sample>
+void fill_common(Sample& s, const std::string& device, const std::string& interface_id,
+                 const PublishedItem& item, std::uint64_t seq) {
+  s.device_uuid(device);
+  s.data_item_id(item.id);
+  s.interface_id(interface_id);
+  s.sequence_number(seq);
+  s.heartbeat_count(item.heartbeat_count);
+  s.source_time_ns(item.changed_ns);
+}
+
+// A change bumps the writer's sequence number and restarts the heartbeat
+// count; a heartbeat repeats the value with heartbeat_count + 1.
+void touch(PublishedItem& item, std::uint64_t& writer_seq, bool heartbeat, std::int64_t now_ns) {
+  if (heartbeat) {
+    ++item.heartbeat_count;
+  } else {
+    ++writer_seq;
+    item.heartbeat_count = 0;
+    item.changed_ns = now_ns;
+  }
+}
+
+}  // namespace
+
+void EquipmentImpl::create_entities() {
+  const auto& t = options.timing;
+  qos::ParticipantConfig pc;
+  pc.name = "mtc-" + options.device_uuid;
+  pc.transport = options.transport;
+  pc.faults = options.faults;
+  pc.timing = t;
+  participant = std::make_unique<Participant>(options.domain_id, qos::participant_qos(pc));
+  topics = std::make_unique<detail::TopicSet>(*participant, t);
+  publisher = std::make_unique<Publisher>(
+      *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});
+  const auto state_qos = qos::state_topic(t).writer_qos();
+  using detail::TopicKind;
+  if (has_role(*this, core::Role::Requester)) {
+    request_writer = std::make_unique<Writer<idl::InteractionSample>>(
+        *publisher, topics->get(TopicKind::Request), state_qos, writer_listener);
+  }
+  if (has_role(*this, core::Role::Responder)) {
+    response_writer = std::make_unique<Writer<idl::InteractionSample>>(
+        *publisher, topics->get(TopicKind::Response), state_qos, writer_listener);
+  }
+  interface_writer = std::make_unique<Writer<idl::InterfaceStateSample>>(
+      *publisher, topics->get(TopicKind::InterfaceState), state_qos, writer_listener);
+  bool door = false;
+  bool chuck = false;
+  for (const auto& itf : interfaces) {
+    door = door || itf->config.publishes_door_state;
+    chuck = chuck || itf->config.publishes_chuck_state;
+  }
+  if (door) {
+    door_writer = std::make_unique<Writer<idl::DoorStateSample>>(
+        *publisher, topics->get(TopicKind::DoorState), state_qos, writer_listener);
+  }
+  if (chuck) {
+    chuck_writer = std::make_unique<Writer<idl::ChuckStateSample>>(
+        *publisher, topics->get(TopicKind::ChuckState), state_qos, writer_listener);
+  }
+  description_writer = std::make_unique<Writer<idl::DeviceDescription>>(
+      *publisher, topics->get(TopicKind::DeviceDescription),
+      qos::device_description_topic(t).writer_qos(), writer_listener);
+
+  // Machines, initial states, announcement; then readers and the executor.
+  const auto now = SteadyClock::now();
+  const auto now_ns = topics::realtime_ns();
+  for (auto& itf : interfaces) {
+    core::MachineOptions defaults;
+    defaults.profile = options.profile;
+    itf->model = std::make_unique<core::InterfaceModel>(itf->config.type, defaults, &itf->hook);
+    for (auto index : itf->services) {
+      auto& s = *slots[index];
+      core::MachineOptions mo = defaults;
+      mo.limits = s.options.limits;
+      mo.start_ready = s.options.start_ready;
+      mo.counterpart_has_fail = s.options.counterpart_has_fail;
+      if (s.role == core::Role::Requester) {
+        itf->model->add_requester(s.service, mo);
+      } else {
+        itf->model->add_responder(s.service, mo);
+      }
+      s.snap_state = itf->model->machine(s.service, s.role)->state();
+      publish_interaction(s, false, now_ns);
+    }
+    publish_interface_state(*itf, false, now_ns);
+    if (itf->config.publishes_door_state) publish_door(*itf, false, now_ns);
+    if (itf->config.publishes_chuck_state) publish_chuck(*itf, false, now_ns);
+  }
+  publish_description();
+  next_heartbeat = now + t.heartbeat;
+
+  executor.start([this] { return next_wake(); }, [this](SteadyClock::time_point n) { on_wake(n); });
+  // Pairing callbacks run on the executor like every other callback.
+  executor.post([this] { bind_configured(); });
+  detail::TapConfig tc;
+  tc.partitions = reader_partitions(*this);
+  tc.timing = t;
+  tc.request_deadline = true;
+  tap = std::make_unique<detail::DomainTap>(*participant, *topics, tc,
+                                            [this](detail::TapEvent&& event) {
+                                              executor.post([this, ev = std::move(event)]() mutable {
+                                                on_event(ev);
+                                              });
+                                            });
+}
+
+void EquipmentImpl::shutdown() noexcept {
+  // Stop the executor first: nothing touches the writers concurrently after.
+  executor.stop();
+  if (started) dispose_all();
+  tap.reset();
+  description_writer.reset();
+  chuck_writer.reset();
+  door_writer.reset();
+  interface_writer.reset();
+  response_writer.reset();
+  request_writer.reset();
+  publisher.reset();
+  topics.reset();
+  participant.reset();
+}
+
+void EquipmentImpl::publish_interaction(ServiceSlot& slot, bool heartbeat, std::int64_t now_ns) {
+  const bool request = slot.role == core::Role::Requester;
+  auto& writer = request ? request_writer : response_writer;
+  auto& seq = request ? request_seq : response_seq;
+  auto& itf = *interfaces[slot.interface_index];
+  touch(slot.item, seq, heartbeat, now_ns);
+  idl::InteractionSample s;
+  fill_common(s, options.device_uuid, itf.config.id, slot.item, seq);
+  s.service(topics::to_idl(slot.service));
+  s.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
+  s.state(topics::to_idl(itf.model->machine(slot.service, slot.role)->state()));
+  writer->write(s);
+}
+
+void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, bool heartbeat,
+                                            std::int64_t now_ns) {
+  touch(itf.state_item, interface_seq, heartbeat, now_ns);
+  idl::InterfaceStateSample s;
+  fill_common(s, options.device_uuid, itf.config.id, itf.state_item, interface_seq);
+  s.state(topics::to_idl(itf.model->interface_state()));
+  interface_writer->write(s);
+}
+
+void EquipmentImpl::publish_door(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
+  touch(itf.door_item, door_seq, heartbeat, now_ns);
+  idl::DoorStateSample s;
+  fill_common(s, options.device_uuid, itf.config.id, itf.door_item, door_seq);
+  s.state(topics::to_idl(itf.door));
+  door_writer->write(s);
+}
+
+void EquipmentImpl::publish_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
+  touch(itf.chuck_item, chuck_seq, heartbeat, now_ns);
+  idl::ChuckStateSample s;
+  fill_common(s, options.device_uuid, itf.config.id, itf.chuck_item, chuck_seq);
+  s.state(topics::to_idl(itf.chuck));
+  chuck_writer->write(s);
+}
+
+namespace {
+
+idl::DataItemDescription item(const std::string& id, std::string_view type,
+                              std::string_view sub_type) {
+  idl::DataItemDescription d;
+  d.id(id);
+  d.name(id);
+  d.type(std::string(type));
+  d.sub_type(std::string(sub_type));
+  d.category("EVENT");
+  return d;
+}
+
+}  // namespace
+
+void EquipmentImpl::publish_description() {
+  idl::DeviceDescription d;
+  d.device_uuid(options.device_uuid);
+  d.name(options.device_name);
+  for (const auto& itf : interfaces) {
+    idl::InterfaceDescription i;
+    i.id(itf->config.id);
+    i.name(itf->config.name);
+    i.interface_type(topics::to_idl(itf->config.type));
+    i.data_items().push_back(item(itf->state_item.id, "INTERFACE_STATE", ""));
+    if (itf->config.publishes_door_state) {
+      i.data_items().push_back(item(itf->door_item.id, "DOOR_STATE", ""));
+    }
+    if (itf->config.publishes_chuck_state) {
+      i.data_items().push_back(item(itf->chuck_item.id, "CHUCK_STATE", ""));
+    }
+    for (auto index : itf->services) {
+      const auto& s = *slots[index];
+      i.data_items().push_back(item(s.item.id, core::to_string(s.service),
+                                    s.role == core::Role::Requester ? "REQUEST" : "RESPONSE"));
+    }
+    d.interfaces().push_back(std::move(i));
+  }
+  d.sequence_number(++description_seq);
+  d.source_time_ns(topics::realtime_ns());
+  description_writer->write(d);
+}
+
+// Re-publishes every item unchanged (keeps the peers' DEADLINE satisfied and
+// asserts MANUAL_BY_TOPIC liveliness of each writer).
+void EquipmentImpl::heartbeat(SteadyClock::time_point now) {
+  const auto now_ns = topics::realtime_ns();
+  for (auto& itf : interfaces) {
+    for (auto index : itf->services) publish_interaction(*slots[index], true, now_ns);
+    publish_interface_state(*itf, true, now_ns);
+    if (itf->config.publishes_door_state) publish_door(*itf, true, now_ns);
+    if (itf->config.publishes_chuck_state) publish_chuck(*itf, true, now_ns);
+  }
+  description_writer->assert_liveliness();
+  next_heartbeat += options.timing.heartbeat;
+  if (next_heartbeat <= now) next_heartbeat = now + options.timing.heartbeat;
+}
+
+// Graceful leave: disposing every instance lets peers see our items
+// UNAVAILABLE at once instead of after a lease.
+void EquipmentImpl::dispose_all() noexcept {
+  try {
+    const auto now_ns = topics::realtime_ns();
+    for (auto& itf : interfaces) {
+      for (auto index : itf->services) {
+        auto& slot = *slots[index];
+        const bool request = slot.role == core::Role::Requester;
+        idl::InteractionSample s;
+        fill_common(s, options.device_uuid, itf->config.id, slot.item, 0);
+        s.source_time_ns(now_ns);
+        (request ? request_writer : response_writer)->dispose(s);
+      }
+      idl::InterfaceStateSample s;
+      fill_common(s, options.device_uuid, itf->config.id, itf->state_item, 0);
+      interface_writer->dispose(s);
+    }
+    idl::DeviceDescription d;
+    d.device_uuid(options.device_uuid);
+    description_writer->dispose(d);
+  } catch (const std::exception& e) {
+    std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": dispose failed: " << e.what()
+              << '\n';
+  }
+}
+
+}  // namespace mtc::dds

@@ -1,0 +1,90 @@
+// Shared helpers of the Equipment tests: a thread-safe recorder of every
+// callback, and waits on its condition variable (never sleeps).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <vector>
+
+#include "mtc/dds/equipment.hpp"
+
+namespace mtc::dds::testing {
+
+using namespace std::chrono_literals;
+using core::InteractionState;
+using core::Service;
+
+// Generous: CI runs on 2 shared cores.
+inline constexpr auto kTimeout = 15s;
+
+class Recorder {
+ public:
+  EquipmentCallbacks callbacks() {
+    EquipmentCallbacks cb;
+    cb.on_transition = [this](const TransitionEvent& e) { add([&] { transitions_.push_back(e); }); };
+    cb.on_link = [this](const LinkEvent& e) { add([&] { links_.push_back(e); }); };
+    cb.on_counterpart_value = [this](const ObservedValue&) { add([] {}); };
+    cb.on_diagnostic = [this](const std::string& d) { add([&] { diagnostics_.push_back(d); }); };
+    return cb;
+  }
+  // Wakes waiters; for callbacks the test installs itself.
+  void notify() { add([] {}); }
+
+  template <typename Pred>
+  bool wait(Pred pred, std::chrono::milliseconds timeout = kTimeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, timeout, [&] { return pred(); });
+  }
+  bool wait_state(const ServiceHandle& h, InteractionState s,
+                  std::chrono::milliseconds timeout = kTimeout) {
+    return wait([&] { return h.state() == s; }, timeout);
+  }
+  bool wait_link(const Equipment& e, const std::string& itf, LinkState s,
+                 std::chrono::milliseconds timeout = kTimeout) {
+    return wait([&] { return e.link_state(itf) == s; }, timeout);
+  }
+  std::vector<TransitionEvent> transitions() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return transitions_;
+  }
+  std::vector<LinkEvent> links() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return links_;
+  }
+  bool saw_notice(core::Notice n, core::Reason r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::any_of(transitions_.begin(), transitions_.end(), [&](const TransitionEvent& e) {
+      return e.step.notice == n && e.step.reason == r;
+    });
+  }
+
+ private:
+  template <typename Fn>
+  void add(Fn fn) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      fn();
+    }
+    cv_.notify_all();
+  }
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<TransitionEvent> transitions_;
+  std::vector<LinkEvent> links_;
+  std::vector<std::string> diagnostics_;
+};
+
+inline EquipmentOptions options(int domain, const std::string& uuid,
+                                qos::Transport transport = qos::Transport::Loopback) {
+  EquipmentOptions o;
+  o.domain_id = domain;
+  o.device_uuid = uuid;
+  o.transport = transport;
+  return o;
+}
+
+}  // namespace mtc::dds::testing
