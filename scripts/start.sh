@@ -1,8 +1,157 @@
 #!/usr/bin/env bash
-# The README's main command: builds the project, then runs the main job inside
-# a loopback-only network namespace.
+# The README's main command: builds the project, then runs the simulated cell
+# (machine tool, robot, bar feeder: apps/cell) and the MTConnect bridge
+# together inside one private, loopback-only network namespace.
+#
+#   ./scripts/start.sh [--no-build] [--port N] [cell options]   run the cell (Ctrl-C stops it)
+#   ./scripts/start.sh --query PATH    from another terminal: GET PATH from the running bridge
+#   ./scripts/start.sh --enter [CMD]   from another terminal: a shell (or CMD) inside the namespace
+#
+# Cell options go to mtc-cell: --cycles N, --duration S, --seed N,
+# --fail-every K, --pace-ms MS (see `build/apps/mtc-cell --help`).
+# The namespace has no route to anything but itself, so a browser outside it
+# cannot reach the bridge: --query and --enter step into it with nsenter.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
-"$root/scripts/build.sh"
-exec "$root/scripts/netns-run.sh" "$build/apps/mtc-interaction-demo" "$@"
+pidfile="$build/mtc-cell.netns.pid"  # a process inside the running cell's namespace
+domain=110                            # DDS domain of the cell (ids 100-119: cell and benchmarks)
+port=5000
+
+usage() { sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+
+# Prints the pid of a process in the running cell's namespace, or fails.
+cell_ns_pid() {
+  local pid
+  pid="$(cat "$pidfile" 2>/dev/null || true)"
+  if [ -z "$pid" ] || [ ! -e "/proc/$pid/ns/net" ] ||
+     [ "$(readlink "/proc/$pid/ns/net")" = "$(readlink /proc/self/ns/net)" ]; then
+    echo "start.sh: no cell is running (start one with ./scripts/start.sh)" >&2
+    return 1
+  fi
+  echo "$pid"
+}
+
+# Runs a command inside the running cell's namespace. netns-run.sh gives
+# root a plain network namespace and others a user namespace as well.
+in_cell_ns() {
+  local pid
+  pid="$(cell_ns_pid)" || exit 1
+  if [ "$(id -u)" -eq 0 ]; then
+    exec nsenter --target "$pid" --net -- "$@"
+  fi
+  exec nsenter --target "$pid" --user --net --preserve-credentials -- "$@"
+}
+
+case "${1:-}" in
+  -h|--help) usage; exit 0 ;;
+  --query)
+    path="${2:-/current}"
+    case "$path" in /*) ;; *) path="/$path" ;; esac
+    port_file="$build/mtc-cell.port"
+    [ -r "$port_file" ] && port="$(cat "$port_file")"
+    in_cell_ns curl -sS --fail-with-body --max-time 10 "http://127.0.0.1:${port}${path}" ;;
+  --enter)
+    shift
+    if [ $# -eq 0 ]; then
+      echo "start.sh: shell inside the cell's namespace; try: curl -s http://127.0.0.1:$port/current" >&2
+      echo "          or: $build/apps/mtc --help (DDS domain $domain). exit leaves." >&2
+      in_cell_ns bash -i
+    fi
+    in_cell_ns "$@" ;;
+esac
+
+# ---------------------------------------------------------------- run
+build_first=1
+cell_args=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --no-build) build_first=0; shift ;;
+    --port) port="${2:?--port needs a value}"; shift 2 ;;
+    --inner) shift ;;  # set by the re-exec below
+    *) cell_args+=("$1"); shift ;;
+  esac
+done
+
+if [ "${MTC_IN_NETNS:-}" != "1" ]; then
+  if [ "$build_first" = 1 ]; then
+    "$root/scripts/build.sh"
+  fi
+  # SHM segments of a cell killed earlier would only confuse the new one.
+  fastdds shm clean >/dev/null 2>&1 || true
+  exec "$root/scripts/netns-run.sh" "$0" --inner --no-build --port "$port" "${cell_args[@]}"
+fi
+
+# ------------------------------------------- inside the namespace from here
+cell="$build/apps/mtc-cell"
+bridge="$build/apps/mtc-bridge"
+bridge_log="$build/mtc-bridge.log"
+[ -x "$cell" ] || { echo "start.sh: $cell is not built" >&2; exit 1; }
+
+bridge_pid=""
+cell_pid=""
+cleanup() {
+  [ -n "$cell_pid" ] && kill -TERM "$cell_pid" 2>/dev/null || true
+  if [ -n "$bridge_pid" ] && kill -0 "$bridge_pid" 2>/dev/null; then
+    kill -TERM "$bridge_pid" 2>/dev/null || true
+    for _ in $(seq 50); do kill -0 "$bridge_pid" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$bridge_pid" 2>/dev/null || true
+    wait "$bridge_pid" 2>/dev/null || true
+  fi
+  rm -f "$pidfile" "$build/mtc-cell.port"
+}
+trap cleanup EXIT
+echo $$ >"$pidfile"
+echo "$port" >"$build/mtc-cell.port"
+
+if [ -x "$bridge" ]; then
+  "$bridge" --domain-ids "$domain" --port "$port" >"$bridge_log" 2>&1 &
+  bridge_pid=$!
+  # Wait until the agent answers (it also needs no device yet to answer).
+  for _ in $(seq 100); do
+    curl -s -o /dev/null --max-time 1 "http://127.0.0.1:$port/probe" && break
+    kill -0 "$bridge_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  if ! kill -0 "$bridge_pid" 2>/dev/null; then
+    echo "start.sh: the bridge did not start; its log ($bridge_log):" >&2
+    tail -n 20 "$bridge_log" >&2
+    exit 1
+  fi
+else
+  echo "start.sh: $bridge is not built; running the cell without the MTConnect bridge" >&2
+fi
+
+cat <<EOF
+================================================================================
+ mtconnect-dds simulated cell: machine tool + robot + bar feeder on DDS domain $domain
+ running in a private loopback-only network namespace (pid $$).
+ MTConnect agent (mtc-bridge): http://127.0.0.1:$port/probe  /current  /sample
+   (log: $bridge_log)
+ That address exists only inside the namespace. From another terminal:
+   ./scripts/start.sh --query /current               # current values of every data item
+   ./scripts/start.sh --query '/sample?count=50'     # the last handshakes as they happened
+   ./scripts/start.sh --enter                        # a shell inside: curl, $build/apps/mtc
+ Stop with Ctrl-C.
+================================================================================
+EOF
+
+# The cell runs as a background job so that SIGINT/SIGTERM reach this shell's
+# trap at once; the trap hands them on and the loop waits for a clean exit.
+"$cell" --domain "$domain" "${cell_args[@]}" &
+cell_pid=$!
+trap 'kill -TERM "$cell_pid" 2>/dev/null || true' INT TERM
+rc=0
+while :; do
+  rc=0
+  wait "$cell_pid" || rc=$?
+  kill -0 "$cell_pid" 2>/dev/null || break
+done
+# A wait cut short by the trap says 130/143; bash still knows the real status.
+if [ "$rc" -gt 128 ]; then
+  rc=0
+  wait "$cell_pid" || rc=$?
+fi
+cell_pid=""
+echo "start.sh: cell stopped (exit code $rc)"
+exit "$rc"

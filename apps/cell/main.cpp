@@ -1,6 +1,7 @@
 // mtc-cell: a simulated machine-tending cell -- machine tool, robot and bar
 // feeder -- running Part 5 load/unload cycles over DDS, with seeded failures
 // that recover. `./scripts/start.sh` runs it with the MTConnect bridge.
+#include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -86,6 +87,11 @@ std::string parse(int argc, char** argv, Parsed& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A shell starts background jobs with SIGINT ignored, and an ignored
+  // disposition survives exec: take the defaults back so Ctrl-C and SIGTERM
+  // reach the supervisor's and stations' sigwait.
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h") {

@@ -57,6 +57,18 @@ struct Ctx {
   }
 };
 
+// Runs a blocking port call in slices of kPoll until it succeeds, `total`
+// has passed or the station is stopped, so Ctrl-C never waits on a timeout.
+template <class Step>
+bool in_slices(const Ctx& c, Millis total, Step step) {
+  const auto deadline = Clock::now() + total;
+  while (!c.stop.stopped()) {
+    if (step(kPoll)) return true;
+    if (Clock::now() >= deadline) return false;
+  }
+  return false;
+}
+
 void announce_fault(Ctx& c, const std::string& indent, const Fault& f) {
   c.say(format("%s!! %s: injected failure, scenario %d (%.*s)", indent.c_str(),
                name(f.service).c_str(), f.scenario, static_cast<int>(f.what.size()),
@@ -69,18 +81,26 @@ Outcome request_service(Ctx& c, Service s, const char* responder, const std::str
                         const std::optional<Fault>& fault) {
   RequestPort& port = c.link.requester(s);
   const auto t0 = Clock::now();
-  if (!port.raise(c.options.handshake_timeout)) {
-    c.say(format("%s%s: could not raise the request (%s not READY)", indent.c_str(),
-                 name(s).c_str(), responder));
+  if (!in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); })) {
+    if (!c.stop.stopped()) {
+      c.say(format("%s%s: could not raise the request (%s not READY)", indent.c_str(),
+                   name(s).c_str(), responder));
+    }
     return Outcome::TimedOut;
   }
   c.say(format("%s%-15s request ACTIVE -> %s", indent.c_str(), name(s).c_str(), responder));
-  if (fault && port.wait_engaged(c.options.handshake_timeout)) {
+  if (fault &&
+      in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.wait_engaged(m); })) {
     c.stop.sleep_for(c.options.pace / 2);
     announce_fault(c, indent, *fault);
     port.fail();
   }
-  const Outcome out = port.wait_outcome(c.options.handshake_timeout);
+  Outcome out = Outcome::TimedOut;
+  in_slices(c, c.options.handshake_timeout, [&](Millis m) {
+    out = port.wait_outcome(m);
+    return out != Outcome::TimedOut;
+  });
+  if (c.stop.stopped()) return out;
   if (out == Outcome::Completed) {
     c.say(format("%s%-15s done in %.1f ms, both READY", indent.c_str(), name(s).c_str(),
                  ms_since(t0)));
@@ -93,20 +113,26 @@ Outcome request_service(Ctx& c, Service s, const char* responder, const std::str
 }
 
 bool recover_request(Ctx& c, Service s, const std::string& indent) {
-  if (c.link.requester(s).recover(c.options.handshake_timeout)) {
+  RequestPort& port = c.link.requester(s);
+  if (in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.recover(m); })) {
     c.say(format("%s%-15s request recovered: FAIL -> READY", indent.c_str(), name(s).c_str()));
     return true;
   }
-  c.say(format("%s%-15s request could not recover", indent.c_str(), name(s).c_str()));
+  if (!c.stop.stopped()) {
+    c.say(format("%s%-15s request could not recover", indent.c_str(), name(s).c_str()));
+  }
   return false;
 }
 
 bool recover_response(Ctx& c, Service s, const std::string& indent) {
-  if (c.link.responder(s).recover(c.options.handshake_timeout)) {
+  ResponsePort& port = c.link.responder(s);
+  if (in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.recover(m); })) {
     c.say(format("%s%-15s response recovered -> READY", indent.c_str(), name(s).c_str()));
     return true;
   }
-  c.say(format("%s%-15s response could not recover", indent.c_str(), name(s).c_str()));
+  if (!c.stop.stopped()) {
+    c.say(format("%s%-15s response could not recover", indent.c_str(), name(s).c_str()));
+  }
   return false;
 }
 
