@@ -1,0 +1,168 @@
+// The mtc-bridge executable as an operator runs it: exit codes, signals,
+// and end to end from a DDS writer to /current.
+// DDS domains: 80 end-to-end, 81 process lifecycle (see CMakeLists.txt).
+#include <gtest/gtest.h>
+#include <pugixml.hpp>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <thread>
+
+#include "child_process.hpp"
+#include "mtc/dds/equipment.hpp"
+#include "raw_client.hpp"
+
+namespace mtc::bridge::test {
+namespace {
+
+const std::string kBridge = MTC_BRIDGE_EXE;
+
+// Starts mtc-bridge on a free port and waits for its "serving" line.
+class RunningBridge {
+ public:
+  explicit RunningBridge(std::vector<std::string> args) {
+    args.insert(args.end(), {"--port", "0"});
+    process_ = std::make_unique<ChildProcess>(kBridge, args);
+    const auto line = process_->wait_for_line("serving", std::chrono::seconds(20));
+    if (!line) {
+      ADD_FAILURE() << "mtc-bridge did not start; stderr: " << process_->err();
+      return;
+    }
+    const auto colon = line->rfind(':', line->find("/ ("));
+    port_ = static_cast<std::uint16_t>(std::stoi(line->substr(colon + 1)));
+  }
+  std::uint16_t port() const { return port_; }
+  ChildProcess& process() { return *process_; }
+
+  std::optional<HttpResponse> get(const std::string& target) {
+    RawClient client(port_);
+    client.send(get_request(target));
+    return client.read_response(std::chrono::seconds(5));
+  }
+
+  // Value of data item `id` in /current, "" when absent.
+  std::string current_value(const std::string& id) {
+    const auto response = get("/current");
+    if (!response || response->status != 200) return {};
+    pugi::xml_document doc;
+    doc.load_string(response->body.c_str());
+    const std::string query = "//*[@dataItemId='" + id + "']";
+    return doc.select_node(query.c_str()).node().text().get();
+  }
+
+ private:
+  std::unique_ptr<ChildProcess> process_;
+  std::uint16_t port_ = 0;
+};
+
+template <typename Condition>
+bool eventually(Condition condition, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!condition()) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+int exit_code_of(const std::vector<std::string>& args, std::string* err = nullptr) {
+  ChildProcess process(kBridge, args);
+  const auto code = process.wait_exit(std::chrono::seconds(20));
+  if (err != nullptr) *err = process.err();
+  return code.value_or(-1);
+}
+
+TEST(BridgeProcess, HelpExitsZero) {
+  ChildProcess process(kBridge, {"--help"});
+  EXPECT_EQ(process.wait_exit(std::chrono::seconds(10)), 0);
+  EXPECT_NE(process.out().find("--domain-ids"), std::string::npos);
+}
+
+TEST(BridgeProcess, ConfigurationErrorsExitTwoNamingTheProblem) {
+  std::string err;
+  const auto bad = write_temp("bridge_bad.cfg", "Port = 5000\nPrto = 1\n");
+  EXPECT_EQ(exit_code_of({"--config", bad}, &err), 2);
+  EXPECT_NE(err.find(bad + ":2: unknown key 'Prto'"), std::string::npos) << err;
+
+  EXPECT_EQ(exit_code_of({"--config", "/nonexistent/agent.cfg"}, &err), 2);
+  EXPECT_NE(err.find("cannot open config file"), std::string::npos) << err;
+
+  EXPECT_EQ(exit_code_of({"--io-threads", "zero"}, &err), 2);
+  EXPECT_NE(err.find("--io-threads: IoThreads must be an integer"), std::string::npos) << err;
+
+  EXPECT_EQ(exit_code_of({"--devices", "/nonexistent/Devices.xml", "--port", "0",
+                          "--domain-ids", "81"},
+                         &err),
+            2);
+  EXPECT_NE(err.find("Devices file"), std::string::npos) << err;
+  std::remove(bad.c_str());
+}
+
+TEST(BridgeProcess, ServesThenStopsCleanlyOnSigterm) {
+  RunningBridge bridge({"--domain-ids", "81"});
+  ASSERT_NE(bridge.port(), 0);
+  const auto probe = bridge.get("/probe");
+  ASSERT_TRUE(probe);
+  EXPECT_EQ(probe->status, 200);
+  EXPECT_NE(probe->body.find("MTConnectDevices"), std::string::npos);
+
+  // A streaming client gets the closing boundary when the bridge stops.
+  RawClient stream(bridge.port());
+  stream.send(get_request("/sample?interval=0&heartbeat=60000"));
+  ASSERT_TRUE(stream.read_stream_head());
+  ASSERT_TRUE(stream.read_part());
+
+  bridge.process().signal(SIGTERM);
+  EXPECT_EQ(bridge.process().wait_exit(std::chrono::seconds(10)), 0);
+  EXPECT_TRUE(stream.read_stream_end(std::chrono::seconds(2)));
+  EXPECT_NE(bridge.process().out().find("mtc-bridge: stopped"), std::string::npos);
+}
+
+TEST(BridgeProcess, ABusyPortExitsOne) {
+  RunningBridge first({"--domain-ids", "81"});
+  ASSERT_NE(first.port(), 0);
+  std::string err;
+  EXPECT_EQ(exit_code_of({"--port", std::to_string(first.port()), "--domain-ids", "81"}, &err), 1);
+  EXPECT_NE(err.find("cannot bind"), std::string::npos) << err;
+}
+
+// A device publishes on DDS; the bridge's /current follows its transition,
+// and a comms loss (every datagram of the device dropped) reads UNAVAILABLE.
+TEST(BridgeEndToEnd, TransitionAndLivelinessLossReachCurrent) {
+  RunningBridge bridge({"--domain-ids", "80", "--heartbeat-ms", "100"});
+  ASSERT_NE(bridge.port(), 0);
+
+  dds::EquipmentOptions options;
+  options.domain_id = 80;
+  options.device_uuid = "e2e-robot";
+  options.transport = qos::Transport::LoopbackTest;
+  options.faults.outage = std::make_shared<std::atomic<bool>>(false);
+  dds::Equipment robot(options);
+  robot.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
+  auto& load = robot.add_responder("mh1", core::Service::MaterialLoad, dds::ResponderCallbacks{});
+  robot.start();
+
+  const std::string item = "mh1_material_load_response";
+  EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "READY"; },
+                         std::chrono::seconds(15)))
+      << "last /current value: '" << bridge.current_value(item) << "'";
+
+  load.set_ready(false).get();
+  EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "NOT_READY"; },
+                         std::chrono::seconds(10)));
+
+  options.faults.outage->store(true);  // the cable is pulled
+  EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "UNAVAILABLE"; },
+                         std::chrono::seconds(10)));
+}
+
+}  // namespace
+}  // namespace mtc::bridge::test
