@@ -95,7 +95,10 @@ void AgentImpl::mark_unobserved_unavailable(std::int64_t time_ns) {
 
 void AgentImpl::set_available(std::size_t device, std::int64_t time_ns) {
   const auto slot = model_.devices()[device].availability_slot;
-  if (slot) append_if_changed(*slot, "AVAILABLE", time_ns);
+  if (!slot) return;
+  // Checked here so that a device's steady AVAILABLE is not a "duplicate".
+  const Observation* latest = buffer_.latest(*slot);
+  if (!latest || latest->value != "AVAILABLE") append_if_changed(*slot, "AVAILABLE", time_ns);
 }
 
 void AgentImpl::rebuild_model() {

@@ -42,6 +42,9 @@ HeaderInfo AgentImpl::header() const {
   h.next_sequence = buffer_.next_sequence();
   h.model_change_time_ns = model_change_ns_;
   h.creation_time_ns = now_ns();
+  // The bridge stores no assets, but the schemas require assetBufferSize
+  // >= 1; report the size agents use by default.
+  h.asset_buffer_size = 1024;
   return h;
 }
 

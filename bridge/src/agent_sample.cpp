@@ -23,13 +23,14 @@ RequestError out_of_range(std::string text) { return {"OUT_OF_RANGE", 400, std::
 Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
   const auto first = static_cast<std::int64_t>(buffer_.first_sequence());
   const auto next = static_cast<std::int64_t>(buffer_.next_sequence());
-  const std::int64_t count = q.count.value_or(kDefaultCount);
   const auto max_count = static_cast<std::int64_t>(max_count_);
+  // Default count: 100, as agents use, but never more than the buffer holds.
+  const std::int64_t count = q.count.value_or(std::min(kDefaultCount, max_count));
   if (q.from && (*q.from < first || *q.from > next)) {
     throw out_of_range("'from' must be between " + std::to_string(first) + " and " +
                        std::to_string(next));
   }
-  if (q.to && (*q.to <= q.from.value_or(first - 1) || *q.to > next)) {
+  if (q.to && (*q.to <= q.from.value_or(first) || *q.to > next)) {
     throw out_of_range("'to' must be greater than 'from' (or firstSequence) and at most " +
                        std::to_string(next));
   }

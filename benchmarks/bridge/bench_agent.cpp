@@ -1,0 +1,155 @@
+// Agent render/ingest benchmark. Prints Google Benchmark's table, then one
+// JSON summary line: {"benchmark":"bridge_agent","results":[{name,
+// ns_per_op, ops_per_s}...]}.
+//
+// The cell: 3 devices, 28 data items (the demo cell), 1.6 documents.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "mtc/bridge/mtconnect_agent.hpp"
+
+namespace {
+
+using namespace mtc;
+using namespace mtc::bridge;
+
+dds::ObservedDataItem item(std::string id, std::string type, std::string sub = "") {
+  dds::ObservedDataItem d;
+  d.id = std::move(id);
+  d.type = std::move(type);
+  d.sub_type = std::move(sub);
+  d.category = "EVENT";
+  return d;
+}
+
+std::unique_ptr<MtconnectAgent> make_cell() {
+  AgentOptions o;
+  o.schema_version = SchemaVersion::V1_6;
+  o.buffer_size = 131072;
+  auto agent = make_agent(o);
+  const char* names[] = {"mill", "robot", "feeder"};
+  for (const char* n : names) {
+    dds::ObservedDevice d;
+    d.device_uuid = std::string(n) + "-uuid";
+    d.name = n;
+    dds::ObservedInterface mh;
+    mh.id = std::string(n) + "_mh";
+    mh.type = core::InterfaceType::MaterialHandler;
+    const std::string p = std::string(n) + ".";
+    mh.data_items = {item(p + "state", "INTERFACE_STATE"), item(p + "load", "MATERIAL_LOAD", "REQUEST"),
+                     item(p + "unload", "MATERIAL_UNLOAD", "REQUEST"),
+                     item(p + "open_door", "OPEN_DOOR", "RESPONSE"),
+                     item(p + "close_door", "CLOSE_DOOR", "RESPONSE"),
+                     item(p + "open_chuck", "OPEN_CHUCK", "RESPONSE"),
+                     item(p + "close_chuck", "CLOSE_CHUCK", "RESPONSE"),
+                     item(p + "feed", "MATERIAL_FEED", "REQUEST")};
+    d.interfaces = {mh};
+    agent->add_device(d);
+  }
+  return agent;
+}
+
+dds::ObservedValue value(int i) {
+  dds::ObservedValue v;
+  v.device_uuid = "mill-uuid";
+  v.data_item_id = "mill.load";
+  v.value = i % 2 ? "ACTIVE" : "READY";
+  v.source_time_ns = 1'700'000'000'000'000'000 + i;
+  return v;
+}
+
+void BM_CurrentCached(benchmark::State& state) {
+  auto agent = make_cell();
+  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/current"));
+}
+BENCHMARK(BM_CurrentCached);
+
+// Every request after a change: the full render cost.
+void BM_CurrentAfterChange(benchmark::State& state) {
+  auto agent = make_cell();
+  int i = 0;
+  for (auto _ : state) {
+    agent->add_value(value(i++));
+    benchmark::DoNotOptimize(agent->route("GET", "/current"));
+  }
+}
+BENCHMARK(BM_CurrentAfterChange);
+
+void BM_CurrentPathAfterChange(benchmark::State& state) {
+  auto agent = make_cell();
+  int i = 0;
+  for (auto _ : state) {
+    agent->add_value(value(i++));
+    benchmark::DoNotOptimize(
+        agent->route("GET", "/mill/current?path=//DataItem[@type='MATERIAL_LOAD']"));
+  }
+}
+BENCHMARK(BM_CurrentPathAfterChange);
+
+void BM_Sample100(benchmark::State& state) {
+  auto agent = make_cell();
+  for (int i = 0; i < 1000; ++i) agent->add_value(value(i));
+  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/sample?count=100"));
+}
+BENCHMARK(BM_Sample100);
+
+void BM_ProbeCached(benchmark::State& state) {
+  auto agent = make_cell();
+  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/probe"));
+}
+BENCHMARK(BM_ProbeCached);
+
+void BM_IngestChange(benchmark::State& state) {
+  auto agent = make_cell();
+  int i = 0;
+  for (auto _ : state) agent->add_value(value(i++));
+}
+BENCHMARK(BM_IngestChange);
+
+void BM_IngestHeartbeat(benchmark::State& state) {
+  auto agent = make_cell();
+  agent->add_value(value(0));
+  dds::ObservedValue v = value(0);
+  for (auto _ : state) {
+    ++v.heartbeat_count;
+    agent->add_value(v);
+  }
+}
+BENCHMARK(BM_IngestHeartbeat);
+
+class SummaryReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      if (r.iterations == 0) continue;
+      const double ns = r.real_accumulated_time * 1e9 / static_cast<double>(r.iterations);
+      results_.push_back({r.benchmark_name(), ns});
+    }
+  }
+  void print_json() const {
+    std::printf("{\"benchmark\":\"bridge_agent\",\"schema\":\"1.6\",\"items\":28,\"results\":[");
+    for (std::size_t i = 0; i < results_.size(); ++i) {
+      std::printf("%s{\"name\":\"%s\",\"ns_per_op\":%.0f,\"ops_per_s\":%.0f}", i ? "," : "",
+                  results_[i].first.c_str(), results_[i].second, 1e9 / results_[i].second);
+    }
+    std::printf("]}\n");
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>> results_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  SummaryReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.print_json();
+  benchmark::Shutdown();
+  return 0;
+}

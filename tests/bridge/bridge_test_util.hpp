@@ -1,0 +1,143 @@
+// Shared fixtures of the bridge tests: the demo cell as DDS announcements
+// (same ids as bridge/devices/cell_*.xml), value builders, XPath helpers.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "mtc/bridge/mtconnect_agent.hpp"
+
+namespace mtc::bridge::test {
+
+inline dds::ObservedDataItem item(std::string id, std::string type, std::string sub_type = "") {
+  dds::ObservedDataItem d;
+  d.id = std::move(id);
+  d.type = std::move(type);
+  d.sub_type = std::move(sub_type);
+  d.category = "EVENT";
+  return d;
+}
+
+inline dds::ObservedInterface interface(std::string id, core::InterfaceType type,
+                                        std::vector<dds::ObservedDataItem> items) {
+  dds::ObservedInterface i;
+  i.id = std::move(id);
+  i.name = i.id;
+  i.type = type;
+  i.data_items = std::move(items);
+  return i;
+}
+
+inline dds::ObservedDevice mill() {
+  using core::InterfaceType;
+  dds::ObservedDevice d;
+  d.device_uuid = "mill-0001";
+  d.name = "mill";
+  d.interfaces = {
+      interface("mill_mh", InterfaceType::MaterialHandler,
+                {item("mill.mh.state", "INTERFACE_STATE"),
+                 item("mill.material_load.req", "MATERIAL_LOAD", "REQUEST"),
+                 item("mill.material_unload.req", "MATERIAL_UNLOAD", "REQUEST")}),
+      interface("mill_door", InterfaceType::Door,
+                {item("mill.door.state", "INTERFACE_STATE"), item("mill.door.door_state", "DOOR_STATE"),
+                 item("mill.open_door.rsp", "OPEN_DOOR", "RESPONSE"),
+                 item("mill.close_door.rsp", "CLOSE_DOOR", "RESPONSE")}),
+      interface("mill_chuck", InterfaceType::Chuck,
+                {item("mill.chuck.state", "INTERFACE_STATE"),
+                 item("mill.chuck.chuck_state", "CHUCK_STATE"),
+                 item("mill.open_chuck.rsp", "OPEN_CHUCK", "RESPONSE"),
+                 item("mill.close_chuck.rsp", "CLOSE_CHUCK", "RESPONSE")}),
+      interface("mill_bf", InterfaceType::BarFeeder,
+                {item("mill.bf.state", "INTERFACE_STATE"),
+                 item("mill.material_feed.req", "MATERIAL_FEED", "REQUEST")}),
+  };
+  return d;
+}
+
+inline dds::ObservedDevice robot() {
+  using core::InterfaceType;
+  dds::ObservedDevice d;
+  d.device_uuid = "robot-0001";
+  d.name = "robot";
+  d.interfaces = {interface("robot_mh", InterfaceType::MaterialHandler,
+                            {item("robot.mh.state", "INTERFACE_STATE"),
+                             item("robot.material_load.rsp", "MATERIAL_LOAD", "RESPONSE"),
+                             item("robot.material_unload.rsp", "MATERIAL_UNLOAD", "RESPONSE"),
+                             item("robot.open_door.req", "OPEN_DOOR", "REQUEST"),
+                             item("robot.close_door.req", "CLOSE_DOOR", "REQUEST"),
+                             item("robot.open_chuck.req", "OPEN_CHUCK", "REQUEST"),
+                             item("robot.close_chuck.req", "CLOSE_CHUCK", "REQUEST")})};
+  return d;
+}
+
+inline dds::ObservedDevice feeder() {
+  dds::ObservedDevice d;
+  d.device_uuid = "feeder-0001";
+  d.name = "feeder";
+  d.interfaces = {interface("feeder_bf", core::InterfaceType::BarFeeder,
+                            {item("feeder.bf.state", "INTERFACE_STATE"),
+                             item("feeder.material_feed.rsp", "MATERIAL_FEED", "RESPONSE")})};
+  return d;
+}
+
+inline dds::ObservedValue value(const std::string& uuid, const std::string& id,
+                                const std::string& v, std::int64_t time_ns = 0,
+                                std::uint64_t heartbeat = 0) {
+  dds::ObservedValue o;
+  o.device_uuid = uuid;
+  o.data_item_id = id;
+  o.value = v;
+  o.source_time_ns = time_ns;
+  o.heartbeat_count = heartbeat;
+  return o;
+}
+
+// A parsed response document.
+struct Doc {
+  pugi::xml_document xml;
+  bool ok = false;
+
+  explicit Doc(const std::string& body) {
+    ok = static_cast<bool>(xml.load_buffer(body.data(), body.size()));
+  }
+  std::size_t count(const char* xpath) const { return xml.select_nodes(xpath).size(); }
+  std::string text(const char* xpath) const {
+    const pugi::xpath_node n = xml.select_node(xpath);
+    if (n.attribute()) return n.attribute().value();
+    return n.node().text().get();
+  }
+  std::uint64_t number(const char* xpath) const { return std::stoull("0" + text(xpath)); }
+};
+
+inline Response get(Agent& agent, const std::string& target) {
+  Routed r = agent.route("GET", target);
+  if (!r.response) return Response{0, "", "<stream/>"};
+  return *r.response;
+}
+
+inline AgentOptions cell_options(SchemaVersion v = SchemaVersion::V1_6, std::size_t buffer = 1024) {
+  AgentOptions o;
+  o.schema_version = v;
+  o.buffer_size = buffer;
+  o.instance_id = 42;
+  return o;
+}
+
+// Agent with the cell announced over "DDS" (no Devices file).
+inline std::unique_ptr<MtconnectAgent> announced_cell(SchemaVersion v = SchemaVersion::V1_6,
+                                                     std::size_t buffer = 1024) {
+  auto agent = make_agent(cell_options(v, buffer));
+  agent->add_device(mill());
+  agent->add_device(robot());
+  agent->add_device(feeder());
+  return agent;
+}
+
+inline std::string devices_file(const std::string& name) {
+  return std::string(MTC_DEVICES_DIR) + "/" + name;
+}
+
+}  // namespace mtc::bridge::test
