@@ -175,6 +175,12 @@ std::string Printer::probe(const HeaderInfo& h, const DeviceModel& model,
   header.append_attribute("assetCount") = static_cast<unsigned long long>(h.asset_count);
   header.append_attribute("bufferSize") = static_cast<unsigned long long>(h.buffer_size);
   pugi::xml_node devices = root.append_child("Devices");
+  if (requires_agent_device(version_) && !model.devices_node().child("Agent")) {
+    pugi::xml_node agent = devices.append_child("Agent");
+    agent.append_attribute("id") = "mtc_bridge_agent";
+    agent.append_attribute("name") = "Agent";
+    agent.append_attribute("uuid") = (h.sender + "-agent").c_str();
+  }
   std::size_t index = 0;
   for (pugi::xml_node dev : model.devices_node().children()) {
     if (dev.type() != pugi::node_element) continue;

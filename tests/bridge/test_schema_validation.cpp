@@ -182,3 +182,29 @@ INSTANTIATE_TEST_SUITE_P(Versions, SchemaValidation,
 
 }  // namespace
 }  // namespace mtc::bridge
+
+namespace mtc::bridge {
+namespace {
+
+// 1.8: the official XSDs lack the interfaces (README of the schemas), so
+// only the documents that do not describe them are checked.
+TEST(SchemaValidation18, ErrorAndBareDocumentsValidate) {
+  ASSERT_TRUE(fs::exists(schema("MTConnectError", SchemaVersion::V1_8)))
+      << "MTConnect schemas not found in MTC_SCHEMA_DIR=" << MTC_SCHEMA_DIR;
+  auto agent = make_agent(test::cell_options(SchemaVersion::V1_8));
+  dds::ObservedDevice bare = test::mill();
+  bare.interfaces.clear();
+  agent->add_device(bare);
+  const Lint error = xmllint(test::get(*agent, "/nodevice/probe").body,
+                             schema("MTConnectError", SchemaVersion::V1_8));
+  EXPECT_EQ(error.exit_code, 0) << error.output;
+  const Lint probe =
+      xmllint(test::get(*agent, "/probe").body, schema("MTConnectDevices", SchemaVersion::V1_8));
+  EXPECT_EQ(probe.exit_code, 0) << probe.output;
+  const Lint current =
+      xmllint(test::get(*agent, "/current").body, schema("MTConnectStreams", SchemaVersion::V1_8));
+  EXPECT_EQ(current.exit_code, 0) << current.output;
+}
+
+}  // namespace
+}  // namespace mtc::bridge

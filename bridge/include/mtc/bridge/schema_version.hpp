@@ -17,9 +17,15 @@ std::string_view to_string(SchemaVersion v) noexcept;
 // Header version attribute, e.g. "1.6.0.0".
 std::string_view header_version(SchemaVersion v) noexcept;
 
-// 2.0 headers carry deviceModelChangeTime (required there, absent before).
+// 1.8 and 2.0 headers carry deviceModelChangeTime (required there, absent
+// before).
 constexpr bool has_model_change_time(SchemaVersion v) noexcept {
-  return v == SchemaVersion::V2_0;
+  return v == SchemaVersion::V1_8 || v == SchemaVersion::V2_0;
+}
+
+// The 1.8 Devices schema requires an <Agent> as the first device.
+constexpr bool requires_agent_device(SchemaVersion v) noexcept {
+  return v == SchemaVersion::V1_8;
 }
 
 // Whether the version's Devices schema has an element for this component
