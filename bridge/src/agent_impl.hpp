@@ -67,6 +67,9 @@ class AgentImpl final : public MtconnectAgent {
   void mark_unobserved_unavailable(std::int64_t time_ns);
   void set_available(std::size_t device, std::int64_t time_ns);
   void notify(std::size_t appended);
+  // The model's uuid for a DDS device uuid (a Devices file may know the
+  // device under another uuid but the same name).
+  const std::string& model_uuid(const std::string& dds_uuid) const;
 
   // --- requests (caller holds data_ shared) ---
   Routed route_target(std::string_view target);
@@ -95,6 +98,7 @@ class AgentImpl final : public MtconnectAgent {
   // applied when an announcement brings them.
   std::map<std::pair<std::string, std::string>, dds::ObservedValue> pending_;
   AgentStats stats_;
+  std::unordered_map<std::string, std::string> uuid_aliases_;  // DDS uuid -> file uuid
   std::uint64_t generation_ = 1;
   std::int64_t model_change_ns_ = 0;
 

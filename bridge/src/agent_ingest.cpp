@@ -120,6 +120,11 @@ void AgentImpl::rebuild_model() {
   }
 }
 
+const std::string& AgentImpl::model_uuid(const std::string& dds_uuid) const {
+  const auto it = uuid_aliases_.find(dds_uuid);
+  return it == uuid_aliases_.end() ? dds_uuid : it->second;
+}
+
 void AgentImpl::add_device(const dds::ObservedDevice& device) {
   std::size_t before = 0;
   std::size_t after = 0;
@@ -138,9 +143,13 @@ void AgentImpl::add_device(const dds::ObservedDevice& device) {
         rebuild_model();
       }
     }
-    if (const auto d = model_.find_device_by_uuid(device.device_uuid)) {
-      set_available(*d, now_ns());
+    auto d = model_.find_device_by_uuid(device.device_uuid);
+    if (!d && from_file_ && !device.name.empty()) {
+      // The file names the device but knows another uuid: map by name.
+      d = model_.find_device(device.name);
+      if (d) uuid_aliases_[device.device_uuid] = model_.devices()[*d].uuid;
     }
+    if (d) set_available(*d, now_ns());
     after = buffer_.next_sequence();
   }
   notify(after - before);
@@ -150,7 +159,7 @@ void AgentImpl::add_value(const dds::ObservedValue& value) {
   std::size_t appended = 0;
   {
     std::unique_lock lock(data_);
-    const auto item = model_.find_item(value.device_uuid, value.data_item_id);
+    const auto item = model_.find_item(model_uuid(value.device_uuid), value.data_item_id);
     if (!item) {
       ++stats_.unknown_values;
       stats_.last_unknown = value.device_uuid + "/" + value.data_item_id;
@@ -181,7 +190,7 @@ void AgentImpl::items_lost(const std::string& device_uuid, const std::vector<std
     const std::int64_t t = now_ns();
     for (const std::string& id : ids) {
       pending_.erase({device_uuid, id});
-      if (const auto item = model_.find_item(device_uuid, id)) {
+      if (const auto item = model_.find_item(model_uuid(device_uuid), id)) {
         append_if_changed(model_.data_items()[*item].slot, kUnavailable, t);
       } else {
         ++stats_.unknown_values;
@@ -198,7 +207,7 @@ void AgentImpl::device_lost(const std::string& device_uuid) {
   {
     std::unique_lock lock(data_);
     const std::uint64_t before = buffer_.next_sequence();
-    const auto device = model_.find_device_by_uuid(device_uuid);
+    const auto device = model_.find_device_by_uuid(model_uuid(device_uuid));
     if (device) {
       const std::int64_t t = now_ns();
       for (std::size_t i : model_.all_items(*device)) {

@@ -155,6 +155,22 @@ TEST(Agent, DevicesFileItemsNeverReceivedStayUnavailable) {
   EXPECT_EQ(make_agent(o13)->schema_version(), SchemaVersion::V1_3);
 }
 
+TEST(Agent, DevicesFileDeviceIsFoundByNameWhenTheUuidDiffers) {
+  AgentOptions o = test::cell_options();
+  o.devices_file = test::devices_file("cell_1.6.xml");
+  auto agent = make_agent(o);
+  dds::ObservedDevice robot = test::robot();
+  robot.device_uuid = "robot-serial-7731";  // the file says robot-0001
+  agent->add_device(robot);
+  agent->add_value(value("robot-serial-7731", "robot.material_load.rsp", "READY", kT0));
+  Doc d(get(*agent, "/robot/current").body);
+  EXPECT_EQ(d.text("//MaterialLoad"), "READY");
+  EXPECT_EQ(d.text("//Availability"), "AVAILABLE");
+  agent->device_lost("robot-serial-7731");
+  EXPECT_EQ(Doc(get(*agent, "/robot/current").body).text("//MaterialLoad"), "UNAVAILABLE");
+  EXPECT_EQ(agent->stats().unknown_values, 0u);
+}
+
 TEST(Agent, MalformedDevicesFileThrowsModelError) {
   AgentOptions o = test::cell_options();
   o.devices_file = "/nonexistent/cell.xml";
