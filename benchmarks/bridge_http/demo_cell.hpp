@@ -1,0 +1,56 @@
+// The demo cell the HTTP benchmarks serve: helper-made MtconnectAgent loaded
+// with bridge/devices/cell_1.6.xml, every Part 5 data item given a value,
+// and an HttpServer in front of it on a free loopback port.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mtc/bridge/http_server.hpp"
+#include "mtc/bridge/mtconnect_agent.hpp"
+
+namespace mtc::bridge::bench {
+
+struct FedItem {
+  std::string device_uuid;
+  std::string id;
+  std::vector<std::string> values;  // cycled by the feeder
+};
+
+class DemoCell {
+ public:
+  DemoCell(const std::string& devices_file, unsigned io_threads);
+  ~DemoCell();
+
+  MtconnectAgent& agent() { return *agent_; }
+  std::uint16_t port() const { return server_->port(); }
+  const std::vector<FedItem>& items() const { return items_; }
+
+  // Gives item `index % items().size()` its next value (round robin).
+  void feed_next(std::size_t index);
+
+ private:
+  std::shared_ptr<MtconnectAgent> agent_;
+  std::unique_ptr<HttpServer> server_;
+  std::vector<FedItem> items_;
+  std::vector<std::size_t> cursor_;
+};
+
+// Percentiles of a sample of durations, in microseconds.
+struct LatencySummary {
+  double p50_us = 0;
+  double p90_us = 0;
+  double p99_us = 0;
+  double max_us = 0;
+  double mean_us = 0;
+  std::size_t samples = 0;
+};
+LatencySummary summarize(std::vector<std::chrono::nanoseconds> samples);
+
+// "--name value" from argv, or the fallback.
+std::string arg(int argc, char** argv, const std::string& name, const std::string& fallback);
+
+}  // namespace mtc::bridge::bench
