@@ -47,6 +47,22 @@ enum class Setup {
   DisabledFailPending,  // DISABLED, counterpart went FAIL meanwhile
 };
 
+inline const char* setup_name(Setup s) {
+  switch (s) {
+    case Setup::Ready: return "Ready";
+    case Setup::NotReady: return "NotReady";
+    case Setup::Active: return "Active";
+    case Setup::ActiveEngaged: return "ActiveEngaged";
+    case Setup::ResponderReadyRequestActive: return "ReadyRequestActive";
+    case Setup::Complete: return "Complete";
+    case Setup::Fail: return "Fail";
+    case Setup::FailAcknowledged: return "FailAcknowledged";
+    case Setup::Disabled: return "Disabled";
+    case Setup::DisabledFailPending: return "DisabledFailPending";
+  }
+  return "?";
+}
+
 inline Requester requester_in(Setup s, Profile p) {
   Requester m(Service::MaterialLoad, options_for(p));
   m.on_counterpart(InteractionState::Ready, kT0);

@@ -34,4 +34,18 @@ struct SetupExpectations {
   std::vector<Expect> rows;
 };
 
+// One parameter of the exhaustive tests: a profile and a starting setup.
+struct TableCase {
+  Profile profile;
+  std::size_t setup_index;
+};
+
+inline std::vector<TableCase> table_cases(std::size_t setups) {
+  std::vector<TableCase> cases;
+  for (const auto p : {Profile::V1_6, Profile::V1_3}) {
+    for (std::size_t i = 0; i < setups; ++i) cases.push_back({p, i});
+  }
+  return cases;
+}
+
 }  // namespace mtc::core::testing_support

@@ -238,38 +238,53 @@ std::vector<SetupExpectations> requester_expectations() {
   return all;
 }
 
-class RequesterTable : public ::testing::TestWithParam<Profile> {};
-
-TEST_P(RequesterTable, EveryStateEventPairMatchesTheSpec) {
-  const Profile profile = GetParam();
-  for (const auto& setup : requester_expectations()) {
-    std::set<Event> covered;
-    for (const Expect& x : setup.rows) {
-      covered.insert(x.event);
-      Requester m = requester_in(setup.setup, profile);
-      const InteractionState before = m.state();
-      const StepResult r = m.step(x.event, kT0);
-      const bool v13 = profile == Profile::V1_3;
-      SCOPED_TRACE(::testing::Message() << "setup " << static_cast<int>(setup.setup) << " event "
-                                        << x.event << (v13 ? " (1.3)" : " (1.6)"));
-      EXPECT_EQ(r.previous, before);
-      EXPECT_EQ(r.current, v13 ? x.state13 : x.state16);
-      EXPECT_EQ(m.state(), r.current);
-      EXPECT_EQ(r.notice, v13 ? x.notice13 : x.notice16);
-      EXPECT_EQ(r.reason, v13 ? x.reason13 : x.reason16);
-      EXPECT_EQ(r.event, x.event);
-      EXPECT_EQ(r.role, Role::Requester);
-      if (r.rejected()) {
-        EXPECT_FALSE(r.changed()) << "a rejection must not change state";
-      }
-    }
-    EXPECT_EQ(covered.size(), kEventCount) << "setup " << static_cast<int>(setup.setup)
-                                           << " does not list every event";
-  }
+const std::vector<SetupExpectations>& expectations() {
+  static const std::vector<SetupExpectations> all = requester_expectations();
+  return all;
 }
 
-INSTANTIATE_TEST_SUITE_P(Profiles, RequesterTable, ::testing::Values(Profile::V1_6, Profile::V1_3),
-                         profile_name<::testing::TestParamInfo<Profile>>);
+class RequesterTable : public ::testing::TestWithParam<TableCase> {};
+
+TEST_P(RequesterTable, EveryEventMatchesTheSpec) {
+  const Profile profile = GetParam().profile;
+  const SetupExpectations& setup = expectations()[GetParam().setup_index];
+  const bool v13 = profile == Profile::V1_3;
+  std::set<Event> covered;
+  for (const Expect& x : setup.rows) {
+    covered.insert(x.event);
+    Requester m = requester_in(setup.setup, profile);
+    const InteractionState before = m.state();
+    const StepResult r = m.step(x.event, kT0);
+    SCOPED_TRACE(::testing::Message() << "from " << setup_name(setup.setup) << " event " << x.event
+                                      << (v13 ? " (1.3)" : " (1.6)"));
+    EXPECT_EQ(r.previous, before);
+    EXPECT_EQ(r.current, v13 ? x.state13 : x.state16);
+    EXPECT_EQ(m.state(), r.current);
+    EXPECT_EQ(r.notice, v13 ? x.notice13 : x.notice16);
+    EXPECT_EQ(r.reason, v13 ? x.reason13 : x.reason16);
+    EXPECT_EQ(r.event, x.event);
+    EXPECT_EQ(r.role, Role::Requester);
+    if (r.rejected()) {
+      EXPECT_FALSE(r.changed()) << "a rejection must not change state";
+    }
+  }
+  EXPECT_EQ(covered.size(), kEventCount) << setup_name(setup.setup) << " does not list every event";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Pairs, RequesterTable, ::testing::ValuesIn(table_cases(expectations().size())),
+    [](const ::testing::TestParamInfo<TableCase>& param_info) {
+      return std::string(param_info.param.profile == Profile::V1_3 ? "V1_3_" : "V1_6_") +
+             setup_name(expectations()[param_info.param.setup_index].setup);
+    });
+
+TEST(RequesterTable, SetupsReachEveryPhaseOfTheRole) {
+  std::set<Phase> reached;
+  for (const auto& setup : expectations()) {
+    reached.insert(requester_in(setup.setup, Profile::V1_6).phase());
+  }
+  EXPECT_EQ(reached, (std::set<Phase>{Phase::NotReady, Phase::Ready, Phase::Active, Phase::Fail, Phase::Disabled}));
+}
 
 TEST(RequesterTable, NeverReachesComplete) {
   for (const auto& row : requester_table()) {
