@@ -105,7 +105,10 @@ echo $$ >"$pidfile"
 echo "$port" >"$build/mtc-cell.port"
 
 if [ -x "$bridge" ]; then
-  "$bridge" --domain-ids "$domain" --port "$port" >"$bridge_log" 2>&1 &
+  # Same heartbeat as the cell (mtc-cell defaults), so the bridge does not
+  # declare a device lost before the stations would.
+  "$bridge" --domain-ids "$domain" --port "$port" --heartbeat-ms 200 --missed-heartbeats 5 \
+    >"$bridge_log" 2>&1 &
   bridge_pid=$!
   # Wait until the agent answers (it also needs no device yet to answer).
   for _ in $(seq 100); do

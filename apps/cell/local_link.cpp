@@ -38,6 +38,8 @@ struct LocalBus::Impl {
   std::vector<std::unique_ptr<Wire>> wires;
   std::vector<std::unique_ptr<RequestPort>> request_ports;
   std::vector<std::unique_ptr<ResponsePort>> response_ports;
+  std::optional<core::DoorState> door;
+  std::optional<core::ChuckState> chuck;
 
   void note(Wire& w, const core::StepResult& r) {
     if (r.role == core::Role::Responder && r.notice == core::Notice::RequestObserved) {
@@ -239,8 +241,19 @@ std::optional<Service> LocalBus::wait_job(std::initializer_list<Service> service
   return job;
 }
 
-// Door and chuck states have no reader in memory; the stations log them.
-void LocalBus::set_door(core::DoorState) {}
-void LocalBus::set_chuck(core::ChuckState) {}
+void LocalBus::set_door(core::DoorState state) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->door = state;
+}
+
+void LocalBus::set_chuck(core::ChuckState state) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->chuck = state;
+}
+
+bool LocalBus::holds(Service s) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return door_chuck_holds(s, impl_->door, impl_->chuck);
+}
 
 }  // namespace mtc::cell

@@ -25,6 +25,7 @@ class LocalBus : public Link {
                                         Millis timeout) override;
   void set_door(core::DoorState state) override;
   void set_chuck(core::ChuckState state) override;
+  bool holds(core::Service service) override;
 
   struct Impl;
 

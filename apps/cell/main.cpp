@@ -23,6 +23,8 @@ void usage(std::ostream& out) {
          "  --fail-every K   one injected failure per K cycles, 0 = none (default 10)\n"
          "  --pace-ms MS     duration of one simulated motion (default 150)\n"
          "  --domain D       DDS domain id (default 110)\n"
+         "  --heartbeat-ms MS, --missed-heartbeats N\n"
+         "                   DDS heartbeat and loss detection (default 200 x 5 = 1 s)\n"
          "  --threads        run the three stations as threads of one process\n"
          "  --local          same, over an in-memory link instead of DDS (no network)\n"
          "  --station NAME   run one station only: machine, robot or feeder\n"
@@ -73,6 +75,10 @@ std::string parse(int argc, char** argv, Parsed& p) {
       p.options.fail_every = static_cast<int>(n);
     } else if (a == "--pace-ms" && parse_number(v, 1, 60000, n)) {
       p.options.pace = mtc::cell::Millis(n);
+    } else if (a == "--heartbeat-ms" && parse_number(v, 10, 60000, n)) {
+      p.options.heartbeat = mtc::cell::Millis(n);
+    } else if (a == "--missed-heartbeats" && parse_number(v, 2, 100, n)) {
+      p.options.missed_heartbeats = static_cast<int>(n);
     } else if (a == "--domain" && parse_number(v, 0, 232, n)) {
       p.options.domain_id = static_cast<int>(n);
     } else {

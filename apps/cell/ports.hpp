@@ -70,6 +70,22 @@ class Link {
                                                 Millis timeout) = 0;
   virtual void set_door(core::DoorState state) = 0;
   virtual void set_chuck(core::ChuckState state) = 0;
+  // True when what a door/chuck service would do already holds (OPEN_DOOR
+  // with the door OPEN): the responder is NOT_READY for it then, so the
+  // requester skips it. False for every other service.
+  virtual bool holds(core::Service service) = 0;
 };
+
+// Shared by the links: does `s` have nothing left to do given these states?
+inline bool door_chuck_holds(core::Service s, std::optional<core::DoorState> door,
+                             std::optional<core::ChuckState> chuck) {
+  switch (s) {
+    case core::Service::OpenDoor: return door == core::DoorState::Open;
+    case core::Service::CloseDoor: return door == core::DoorState::Closed;
+    case core::Service::OpenChuck: return chuck == core::ChuckState::Open;
+    case core::Service::CloseChuck: return chuck == core::ChuckState::Closed;
+    default: return false;
+  }
+}
 
 }  // namespace mtc::cell

@@ -34,6 +34,7 @@ using core::Service;
 using Clock = std::chrono::steady_clock;
 
 constexpr Millis kPoll{100};  // how often an idle unit re-checks for stop
+constexpr int kAttempts = 5;  // a step failing this often in a row stops the cell
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -148,7 +149,7 @@ struct MachineStats {
 // One step of the machine's cycle; retried after a recovered failure.
 bool machine_step(Ctx& c, int cycle, Service s, MachineStats& st) {
   const char* responder = s == Service::MaterialFeed ? "feeder" : "robot";
-  for (int attempt = 1; attempt <= 3 && !c.stop.stopped(); ++attempt) {
+  for (int attempt = 1; attempt <= kAttempts && !c.stop.stopped(); ++attempt) {
     std::optional<Fault> fault;
     const auto due = c.plan.at(cycle);
     if (due && due->party == StationId::Machine && due->service == s &&
@@ -296,6 +297,10 @@ JobEnd robot_job(Ctx& c, ResponsePort& port, bool load, int cycle) {
         return JobEnd::Aborted;
       }
       if (!c.stop.sleep_for(c.options.pace * 2)) return JobEnd::Stopped;
+    }
+    if (c.link.holds(steps[i])) {
+      c.say(format("  %-15s skipped: already done", name(steps[i]).c_str()));
+      continue;
     }
     std::optional<Fault> fault;
     if (load && steps[i] == Service::OpenChuck &&

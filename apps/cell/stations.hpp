@@ -27,6 +27,11 @@ struct CellOptions {
   int fail_every = 10;        // one injected failure per this many cycles; 0 = none
   Millis pace{150};           // duration of one simulated motion
   Millis handshake_timeout{15000};  // a handshake that takes longer is a cell fault
+  // DDS heartbeat of every station and how many may be missed before a peer
+  // counts as lost (scenario 6). 200 ms x 5 = 1 s tolerates a loaded 2-core
+  // machine; the bridge is started with the same values.
+  Millis heartbeat{200};
+  int missed_heartbeats = 5;
 };
 
 // Stop request shared by a station's threads; its sleeps wake on stop().
