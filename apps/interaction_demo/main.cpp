@@ -78,8 +78,9 @@ int main(int argc, char** argv) {
     usage(stderr);
     return 2;
   }
-  std::printf("MTConnect Part 5 interaction model: cnc requests MATERIAL_LOAD, robot responds.\n"
-              "Columns: simulated time, side, data item, event, old -> new state, notice.\n");
+  std::printf(
+      "MTConnect Part 5 interaction model: cnc requests MATERIAL_LOAD, robot responds.\n"
+      "Columns: simulated time, side, data item, event, old -> new state, notice.\n");
   for (const auto& s : mtc::demo::scenarios()) {
     if (o.scenario >= 0 && s.number != o.scenario) continue;
     if (o.v16) play(s, Profile::V1_6);

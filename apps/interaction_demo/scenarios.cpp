@@ -162,8 +162,8 @@ const std::array<Scenario, 8> kScenarios{{
     {0, "Success (Table 1, steps 1-8)",
      "request ACTIVE, response ACTIVE, COMPLETE, request READY, response READY", false, success},
     {1, "Scenario 1 - Responder fails immediately",
-     "1.6: the requester MUST go FAIL, both clear FAIL; 1.3: the request goes back to READY",
-     true, responder_fails_immediately},
+     "1.6: the requester MUST go FAIL, both clear FAIL; 1.3: the request goes back to READY", true,
+     responder_fails_immediately},
     {2, "Scenario 2 - Responder fails while providing a service",
      "1.6: requester ACTIVE -> FAIL, both recover; 1.3: requester back to READY", true,
      responder_fails_during_service},
@@ -171,8 +171,8 @@ const std::array<Scenario, 8> kScenarios{{
      "the responder also goes FAIL; each clears FAIL once the other is FAIL", false,
      requester_fails_during_service},
     {4, "Scenario 4 - Requester changes to an unexpected state",
-     "request leaves ACTIVE before COMPLETE (here: INTERFACE_STATE DISABLED): responder FAIL",
-     true, requester_unexpected_state},
+     "request leaves ACTIVE before COMPLETE (here: INTERFACE_STATE DISABLED): responder FAIL", true,
+     requester_unexpected_state},
     {5, "Scenario 5 - Responder changes to an unexpected state",
      "response leaves ACTIVE for NOT_READY: 1.6 requester FAIL; 1.3 requester READY", true,
      responder_unexpected_state},
@@ -180,12 +180,14 @@ const std::array<Scenario, 8> kScenarios{{
      "1.6: both sides FAIL and recover after reconnection; 1.3: only a service in progress fails",
      true, communication_lost},
     {7, "Time limits",
-     "request unanswered -> FAIL; FAIL unacknowledged -> recovery allowed; 1.3 FAIL time-out",
-     true, time_limits},
+     "request unanswered -> FAIL; FAIL unacknowledged -> recovery allowed; 1.3 FAIL time-out", true,
+     time_limits},
 }};
 
 }  // namespace
 
-const std::array<Scenario, 8>& scenarios() { return kScenarios; }
+const std::array<Scenario, 8>& scenarios() {
+  return kScenarios;
+}
 
 }  // namespace mtc::demo

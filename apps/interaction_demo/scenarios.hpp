@@ -8,10 +8,10 @@
 namespace mtc::demo {
 
 struct Scenario {
-  int number;             // 0 = success run, 1-6 = section 5.1, 7 = time limits
+  int number;  // 0 = success run, 1-6 = section 5.1, 7 = time limits
   const char* title;
-  const char* summary;    // what the text says happens
-  bool differs_in_1_3;    // worth replaying under the 1.3 profile
+  const char* summary;  // what the text says happens
+  bool differs_in_1_3;  // worth replaying under the 1.3 profile
   void (*run)(core::Profile profile);
 };
 

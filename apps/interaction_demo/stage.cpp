@@ -28,11 +28,10 @@ void Stage::show(const StepResult& r) {
     what += ": ";
     what += describe(r.reason);
   }
-  std::printf("  t=%6.2fs  %-12s %-9s %-16s %-9s -> %-9s %s\n", t,
-              cnc ? "cnc" : "robot", cnc ? "REQUEST" : "RESPONSE",
-              std::string(to_string(r.event)).c_str(),
-              std::string(to_string(r.previous)).c_str(),
-              std::string(to_string(r.current)).c_str(), what.c_str());
+  std::printf("  t=%6.2fs  %-12s %-9s %-16s %-9s -> %-9s %s\n", t, cnc ? "cnc" : "robot",
+              cnc ? "REQUEST" : "RESPONSE", std::string(to_string(r.event)).c_str(),
+              std::string(to_string(r.previous)).c_str(), std::string(to_string(r.current)).c_str(),
+              what.c_str());
 }
 
 void Stage::say(const std::string& text) {

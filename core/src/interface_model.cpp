@@ -71,7 +71,8 @@ StepBatch InterfaceModel::set_interface_state(InterfaceState state, TimePoint no
   state_ = enable ? InterfaceState::Enabled
                   : (state == InterfaceState::Disabled ? InterfaceState::Disabled
                                                        : InterfaceState::Unavailable);
-  return for_each_machine([&](ServiceMachine& m) { return enable ? m.enable(now) : m.disable(now); });
+  return for_each_machine(
+      [&](ServiceMachine& m) { return enable ? m.enable(now) : m.disable(now); });
 }
 
 StepBatch InterfaceModel::counterpart_lost(TimePoint now) noexcept {

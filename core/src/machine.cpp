@@ -47,7 +47,12 @@ Transition find_row(TransitionTable table, Phase phase, Event event, Holds&& hol
     if (r.from != phase && r.from != Phase::Any) continue;
     if (holds(r.guard) && holds(r.guard2)) return r;
   }
-  return Transition{phase, event, Guard::Always, Guard::Always, Target::Stay, Notice::Rejected,
+  return Transition{phase,
+                    event,
+                    Guard::Always,
+                    Guard::Always,
+                    Target::Stay,
+                    Notice::Rejected,
                     Reason::UnknownValue};
 }
 
@@ -212,12 +217,10 @@ StepResult ServiceMachine::step(Event event, TimePoint now) noexcept {
     // already acknowledged, the counterpart has failed anew (it recovered
     // and failed again while we were still in FAIL): we answer that after
     // our own recovery (see next_deadline).
-    fail_pending_ = observed == InteractionState::Fail &&
-                    (phase_ != Phase::Fail || acknowledged_);
+    fail_pending_ = observed == InteractionState::Fail && (phase_ != Phase::Fail || acknowledged_);
   }
   const TransitionTable table = role_ == Role::Requester ? requester_table() : responder_table();
-  const Transition row =
-      find_row(table, phase_, event, [this](Guard g) { return guard_holds(g); });
+  const Transition row = find_row(table, phase_, event, [this](Guard g) { return guard_holds(g); });
   if (row.notice != Notice::Rejected) {
     if (event == Event::SetReady || event == Event::RecoverReady) wants_ready_ = true;
     if (event == Event::SetNotReady || event == Event::RecoverNotReady) wants_ready_ = false;
@@ -245,7 +248,9 @@ StepResult ServiceMachine::on_counterpart_lost(TimePoint now) noexcept {
   return step(Event::SeenUnavailable, now);
 }
 
-StepResult ServiceMachine::fail(TimePoint now) noexcept { return step(Event::Fail, now); }
+StepResult ServiceMachine::fail(TimePoint now) noexcept {
+  return step(Event::Fail, now);
+}
 
 StepResult ServiceMachine::recover(InteractionState target, TimePoint now) noexcept {
   if (target == InteractionState::Ready) return step(Event::RecoverReady, now);
@@ -253,12 +258,18 @@ StepResult ServiceMachine::recover(InteractionState target, TimePoint now) noexc
   return make_result(Event::RecoverReady, phase_, Notice::Rejected, Reason::InvalidTarget);
 }
 
-StepResult ServiceMachine::set_ready(TimePoint now) noexcept { return step(Event::SetReady, now); }
+StepResult ServiceMachine::set_ready(TimePoint now) noexcept {
+  return step(Event::SetReady, now);
+}
 StepResult ServiceMachine::set_not_ready(TimePoint now) noexcept {
   return step(Event::SetNotReady, now);
 }
-StepResult ServiceMachine::disable(TimePoint now) noexcept { return step(Event::Disable, now); }
-StepResult ServiceMachine::enable(TimePoint now) noexcept { return step(Event::Enable, now); }
+StepResult ServiceMachine::disable(TimePoint now) noexcept {
+  return step(Event::Disable, now);
+}
+StepResult ServiceMachine::enable(TimePoint now) noexcept {
+  return step(Event::Enable, now);
+}
 StepResult ServiceMachine::reevaluate(TimePoint now) noexcept {
   return step(Event::Reevaluate, now);
 }

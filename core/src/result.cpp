@@ -1,9 +1,10 @@
 // Log spellings of the machine vocabulary. Indexed by enumerator value, so
 // each array lists the enumerators in declaration order.
+#include "mtc/core/result.hpp"
+
 #include <array>
 #include <cstddef>
 
-#include "mtc/core/result.hpp"
 #include "mtc/core/transition.hpp"
 
 namespace mtc::core {
@@ -15,20 +16,37 @@ constexpr std::string_view lookup(const std::array<std::string_view, N>& names, 
   return i < N ? names[i] : std::string_view{"?"};
 }
 
-constexpr std::array<std::string_view, kEventCount> kEvents{
-    "Request",       "Accept",          "Complete",       "Fail",
-    "RecoverReady",  "RecoverNotReady", "SetReady",       "SetNotReady",
-    "Disable",       "Enable",          "Reevaluate",     "SeenNotReady",
-    "SeenReady",     "SeenActive",      "SeenComplete",   "SeenFail",
-    "SeenUnavailable", "SeenInvalid",   "ResponseTimeout", "ServiceTimeout",
-    "CompletionAckTimeout", "FailAckTimeout", "FailResetTimeout"};
+constexpr std::array<std::string_view, kEventCount> kEvents{"Request",
+                                                            "Accept",
+                                                            "Complete",
+                                                            "Fail",
+                                                            "RecoverReady",
+                                                            "RecoverNotReady",
+                                                            "SetReady",
+                                                            "SetNotReady",
+                                                            "Disable",
+                                                            "Enable",
+                                                            "Reevaluate",
+                                                            "SeenNotReady",
+                                                            "SeenReady",
+                                                            "SeenActive",
+                                                            "SeenComplete",
+                                                            "SeenFail",
+                                                            "SeenUnavailable",
+                                                            "SeenInvalid",
+                                                            "ResponseTimeout",
+                                                            "ServiceTimeout",
+                                                            "CompletionAckTimeout",
+                                                            "FailAckTimeout",
+                                                            "FailResetTimeout"};
 
 constexpr std::array<std::string_view, 18> kNotices{
-    "None",          "RequestIssued",     "RequestObserved",   "Accepted",
-    "Completed",     "Acknowledged",      "Failed",            "CounterpartFailed",
-    "FailAcknowledged", "Recovered",      "TimedOut",          "ProtocolViolation",
-    "Rejected",      "ReadinessChanged",  "Disabled",          "Enabled",
-    "CommsLost",     "CommsRestored"};
+    "None",      "RequestIssued",     "RequestObserved",
+    "Accepted",  "Completed",         "Acknowledged",
+    "Failed",    "CounterpartFailed", "FailAcknowledged",
+    "Recovered", "TimedOut",          "ProtocolViolation",
+    "Rejected",  "ReadinessChanged",  "Disabled",
+    "Enabled",   "CommsLost",         "CommsRestored"};
 
 struct ReasonText {
   std::string_view id;
@@ -69,13 +87,24 @@ constexpr std::array<ReasonText, 29> kReasons{{
 
 constexpr std::array<std::string_view, 7> kPhases{"NotReady", "Ready",    "Active", "Complete",
                                                   "Fail",     "Disabled", "Any"};
-constexpr std::array<std::string_view, 16> kGuards{
-    "Always",          "V13",                   "V16",           "Permitted",
-    "NotPermitted",    "WantsReady",            "CounterpartReady", "CounterpartNotReady",
-    "CounterpartEngaged", "CounterpartNotEngaged", "RequestActive", "RequestNotActive",
-    "AcknowledgesFail", "Acknowledged",         "NotAcknowledged", "CounterpartFailPending"};
-constexpr std::array<std::string_view, 8> kTargets{"Stay", "NotReady", "Ready", "Active",
-                                                   "Complete", "Fail", "Idle", "Disabled"};
+constexpr std::array<std::string_view, 16> kGuards{"Always",
+                                                   "V13",
+                                                   "V16",
+                                                   "Permitted",
+                                                   "NotPermitted",
+                                                   "WantsReady",
+                                                   "CounterpartReady",
+                                                   "CounterpartNotReady",
+                                                   "CounterpartEngaged",
+                                                   "CounterpartNotEngaged",
+                                                   "RequestActive",
+                                                   "RequestNotActive",
+                                                   "AcknowledgesFail",
+                                                   "Acknowledged",
+                                                   "NotAcknowledged",
+                                                   "CounterpartFailPending"};
+constexpr std::array<std::string_view, 8> kTargets{"Stay",     "NotReady", "Ready", "Active",
+                                                   "Complete", "Fail",     "Idle",  "Disabled"};
 
 static_assert(static_cast<std::size_t>(Notice::CommsRestored) + 1 == kNotices.size());
 static_assert(static_cast<std::size_t>(Reason::InvalidTarget) + 1 == kReasons.size());
@@ -85,8 +114,12 @@ static_assert(static_cast<std::size_t>(Target::Disabled) + 1 == kTargets.size())
 
 }  // namespace
 
-std::string_view to_string(Event e) noexcept { return lookup(kEvents, e); }
-std::string_view to_string(Notice n) noexcept { return lookup(kNotices, n); }
+std::string_view to_string(Event e) noexcept {
+  return lookup(kEvents, e);
+}
+std::string_view to_string(Notice n) noexcept {
+  return lookup(kNotices, n);
+}
 std::string_view to_string(Reason r) noexcept {
   const auto i = static_cast<std::size_t>(r);
   return i < kReasons.size() ? kReasons[i].id : std::string_view{"?"};
@@ -95,8 +128,14 @@ std::string_view describe(Reason r) noexcept {
   const auto i = static_cast<std::size_t>(r);
   return i < kReasons.size() ? kReasons[i].sentence : std::string_view{"unknown reason"};
 }
-std::string_view to_string(Phase p) noexcept { return lookup(kPhases, p); }
-std::string_view to_string(Guard g) noexcept { return lookup(kGuards, g); }
-std::string_view to_string(Target t) noexcept { return lookup(kTargets, t); }
+std::string_view to_string(Phase p) noexcept {
+  return lookup(kPhases, p);
+}
+std::string_view to_string(Guard g) noexcept {
+  return lookup(kGuards, g);
+}
+std::string_view to_string(Target t) noexcept {
+  return lookup(kTargets, t);
+}
 
 }  // namespace mtc::core

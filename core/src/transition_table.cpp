@@ -38,6 +38,7 @@ constexpr std::array<Transition, A + B> concat(const std::array<Transition, A>& 
   return out;
 }
 
+// clang-format off
 // ---------------------------------------------------------------- requester
 constexpr std::array kRequesterRows{
     // READY: "will transition to ACTIVE when it needs a service" (Table 5).
@@ -249,10 +250,12 @@ constexpr std::array kAnyRows{
     row(P::Any, E::FailResetTimeout, T::Stay, N::None),
 };
 
-constexpr auto kRequesterTable = concat(concat(kRequesterRows, kFailRows),
-                                        concat(kDisabledRows, kAnyRows));
-constexpr auto kResponderTable = concat(concat(kResponderRows, kFailRows),
-                                        concat(kDisabledRows, kAnyRows));
+// clang-format on
+
+constexpr auto kRequesterTable =
+    concat(concat(kRequesterRows, kFailRows), concat(kDisabledRows, kAnyRows));
+constexpr auto kResponderTable =
+    concat(concat(kResponderRows, kFailRows), concat(kDisabledRows, kAnyRows));
 
 // Every (phase, event) pair a role can meet must end in an unguarded row, so
 // lookup never falls off the table.

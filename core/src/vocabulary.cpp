@@ -29,9 +29,9 @@ constexpr Spelling<SubType, 2> kSubType{{"REQUEST", "RESPONSE"}};
 constexpr Spelling<InterfaceState, 3> kInterfaceState{{"UNAVAILABLE", "ENABLED", "DISABLED"}};
 constexpr Spelling<DoorState, 4> kDoor{{"UNAVAILABLE", "OPEN", "UNLATCHED", "CLOSED"}};
 constexpr Spelling<ChuckState, 4> kChuck{{"UNAVAILABLE", "OPEN", "UNLATCHED", "CLOSED"}};
-constexpr Spelling<Service, 10> kService{
-    {"MATERIAL_FEED", "MATERIAL_CHANGE", "MATERIAL_RETRACT", "PART_CHANGE", "MATERIAL_LOAD",
-     "MATERIAL_UNLOAD", "OPEN_DOOR", "CLOSE_DOOR", "OPEN_CHUCK", "CLOSE_CHUCK"}};
+constexpr Spelling<Service, 10> kService{{"MATERIAL_FEED", "MATERIAL_CHANGE", "MATERIAL_RETRACT",
+                                          "PART_CHANGE", "MATERIAL_LOAD", "MATERIAL_UNLOAD",
+                                          "OPEN_DOOR", "CLOSE_DOOR", "OPEN_CHUCK", "CLOSE_CHUCK"}};
 constexpr Spelling<Service, 10> kServiceElement{
     {"MaterialFeed", "MaterialChange", "MaterialRetract", "PartChange", "MaterialLoad",
      "MaterialUnload", "OpenDoor", "CloseDoor", "OpenChuck", "CloseChuck"}};
@@ -43,14 +43,30 @@ constexpr Spelling<Role, 2> kRole{{"REQUESTER", "RESPONDER"}};
 
 }  // namespace
 
-std::string_view to_string(InteractionState s) noexcept { return kInteraction.name(s); }
-std::string_view to_string(SubType s) noexcept { return kSubType.name(s); }
-std::string_view to_string(InterfaceState s) noexcept { return kInterfaceState.name(s); }
-std::string_view to_string(DoorState s) noexcept { return kDoor.name(s); }
-std::string_view to_string(ChuckState s) noexcept { return kChuck.name(s); }
-std::string_view to_string(Service s) noexcept { return kService.name(s); }
-std::string_view to_string(InterfaceType t) noexcept { return kInterfaceType.name(t); }
-std::string_view to_string(Role r) noexcept { return kRole.name(r); }
+std::string_view to_string(InteractionState s) noexcept {
+  return kInteraction.name(s);
+}
+std::string_view to_string(SubType s) noexcept {
+  return kSubType.name(s);
+}
+std::string_view to_string(InterfaceState s) noexcept {
+  return kInterfaceState.name(s);
+}
+std::string_view to_string(DoorState s) noexcept {
+  return kDoor.name(s);
+}
+std::string_view to_string(ChuckState s) noexcept {
+  return kChuck.name(s);
+}
+std::string_view to_string(Service s) noexcept {
+  return kService.name(s);
+}
+std::string_view to_string(InterfaceType t) noexcept {
+  return kInterfaceType.name(t);
+}
+std::string_view to_string(Role r) noexcept {
+  return kRole.name(r);
+}
 
 std::optional<InteractionState> parse_interaction_state(std::string_view text) noexcept {
   return kInteraction.parse(text);
@@ -89,7 +105,11 @@ std::string_view state_item_type(InterfaceType t) noexcept {
   return {};
 }
 
-std::string_view element_name(Service s) noexcept { return kServiceElement.name(s); }
-std::string_view element_name(InterfaceType t) noexcept { return kInterfaceElement.name(t); }
+std::string_view element_name(Service s) noexcept {
+  return kServiceElement.name(s);
+}
+std::string_view element_name(InterfaceType t) noexcept {
+  return kInterfaceElement.name(t);
+}
 
 }  // namespace mtc::core

@@ -10,11 +10,21 @@
 
 namespace mtc::core {
 
-inline std::ostream& operator<<(std::ostream& os, InteractionState s) { return os << to_string(s); }
-inline std::ostream& operator<<(std::ostream& os, Notice n) { return os << to_string(n); }
-inline std::ostream& operator<<(std::ostream& os, Reason r) { return os << to_string(r); }
-inline std::ostream& operator<<(std::ostream& os, Event e) { return os << to_string(e); }
-inline std::ostream& operator<<(std::ostream& os, Phase p) { return os << to_string(p); }
+inline std::ostream& operator<<(std::ostream& os, InteractionState s) {
+  return os << to_string(s);
+}
+inline std::ostream& operator<<(std::ostream& os, Notice n) {
+  return os << to_string(n);
+}
+inline std::ostream& operator<<(std::ostream& os, Reason r) {
+  return os << to_string(r);
+}
+inline std::ostream& operator<<(std::ostream& os, Event e) {
+  return os << to_string(e);
+}
+inline std::ostream& operator<<(std::ostream& os, Phase p) {
+  return os << to_string(p);
+}
 
 namespace testing_support {
 
@@ -35,30 +45,40 @@ std::string profile_name(const ParamInfo& param_info) {
 // The starting points of the exhaustive table tests. Each names the phase and
 // the context that matters for the guards.
 enum class Setup {
-  Ready,           // READY, counterpart READY
-  NotReady,        // NOT_READY by application wish, counterpart READY
-  Active,          // requester ACTIVE, response still READY (not engaged)
-  ActiveEngaged,   // requester ACTIVE, response ACTIVE; responder: ACTIVE, request ACTIVE
+  Ready,          // READY, counterpart READY
+  NotReady,       // NOT_READY by application wish, counterpart READY
+  Active,         // requester ACTIVE, response still READY (not engaged)
+  ActiveEngaged,  // requester ACTIVE, response ACTIVE; responder: ACTIVE, request ACTIVE
   ResponderReadyRequestActive,  // responder READY, request ACTIVE
-  Complete,        // responder COMPLETE, request ACTIVE
-  Fail,            // FAIL by own failure, counterpart READY
-  FailAcknowledged,  // FAIL, counterpart FAIL
-  Disabled,        // DISABLED, counterpart READY
-  DisabledFailPending,  // DISABLED, counterpart went FAIL meanwhile
+  Complete,                     // responder COMPLETE, request ACTIVE
+  Fail,                         // FAIL by own failure, counterpart READY
+  FailAcknowledged,             // FAIL, counterpart FAIL
+  Disabled,                     // DISABLED, counterpart READY
+  DisabledFailPending,          // DISABLED, counterpart went FAIL meanwhile
 };
 
 inline const char* setup_name(Setup s) {
   switch (s) {
-    case Setup::Ready: return "Ready";
-    case Setup::NotReady: return "NotReady";
-    case Setup::Active: return "Active";
-    case Setup::ActiveEngaged: return "ActiveEngaged";
-    case Setup::ResponderReadyRequestActive: return "ReadyRequestActive";
-    case Setup::Complete: return "Complete";
-    case Setup::Fail: return "Fail";
-    case Setup::FailAcknowledged: return "FailAcknowledged";
-    case Setup::Disabled: return "Disabled";
-    case Setup::DisabledFailPending: return "DisabledFailPending";
+    case Setup::Ready:
+      return "Ready";
+    case Setup::NotReady:
+      return "NotReady";
+    case Setup::Active:
+      return "Active";
+    case Setup::ActiveEngaged:
+      return "ActiveEngaged";
+    case Setup::ResponderReadyRequestActive:
+      return "ReadyRequestActive";
+    case Setup::Complete:
+      return "Complete";
+    case Setup::Fail:
+      return "Fail";
+    case Setup::FailAcknowledged:
+      return "FailAcknowledged";
+    case Setup::Disabled:
+      return "Disabled";
+    case Setup::DisabledFailPending:
+      return "DisabledFailPending";
   }
   return "?";
 }

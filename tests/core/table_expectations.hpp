@@ -24,8 +24,8 @@ constexpr Expect both(Event e, InteractionState s, Notice n, Reason r = Reason::
   return Expect{e, s, n, r, s, n, r};
 }
 // 1.6/1.8 outcome first, then the 1.3 outcome.
-constexpr Expect differ(Event e, InteractionState s16, Notice n16, Reason r16,
-                        InteractionState s13, Notice n13, Reason r13) {
+constexpr Expect differ(Event e, InteractionState s16, Notice n16, Reason r16, InteractionState s13,
+                        Notice n13, Reason r13) {
   return Expect{e, s16, n16, r16, s13, n13, r13};
 }
 

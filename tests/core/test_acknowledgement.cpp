@@ -27,7 +27,7 @@ TEST(Acknowledgement, AnsweredFailOfAnEarlierEpisodeDoesNotAcknowledge) {
   EXPECT_EQ(f.current, S::Fail);
   EXPECT_FALSE(rs.fail_acknowledged()) << "that FAIL was the previous episode's";
   EXPECT_EQ(rs.recover(S::Ready, t).reason, R::FailNotAcknowledged);
-  rs.on_counterpart(S::Ready, t);                                  // the late READY
+  rs.on_counterpart(S::Ready, t);                                        // the late READY
   EXPECT_EQ(rs.on_counterpart(S::Fail, t).notice, N::FailAcknowledged);  // the real ack
 }
 

@@ -24,11 +24,11 @@ using namespace std::chrono_literals;
 
 // What a family of runs exercised, so the test cannot pass vacuously.
 struct Coverage {
-  int completed = 0;     // requester saw COMPLETE and returned to READY
-  int failures = 0;      // entries into FAIL
+  int completed = 0;  // requester saw COMPLETE and returned to READY
+  int failures = 0;   // entries into FAIL
   int recoveries = 0;
   int comms_losses = 0;
-  int violations = 0;    // reported ProtocolViolation notices
+  int violations = 0;  // reported ProtocolViolation notices
   int timeouts = 0;
 };
 
@@ -63,7 +63,10 @@ struct RunConfig {
 class Simulation {
  public:
   Simulation(std::uint32_t seed, const RunConfig& cfg, Coverage& cov)
-      : cov_(cov), rng_(seed), cfg_(cfg), rq_(Service::MaterialLoad, options()),
+      : cov_(cov),
+        rng_(seed),
+        cfg_(cfg),
+        rq_(Service::MaterialLoad, options()),
         rs_(Service::MaterialLoad, options()) {
     publish_initial();
   }
@@ -99,9 +102,8 @@ class Simulation {
   void record(const StepResult& r) {
     std::ostringstream os;
     os << "t=" << std::chrono::duration_cast<std::chrono::milliseconds>(now_ - TimePoint{}).count()
-       << "ms " << to_string(r.role) << " " << to_string(r.event) << " "
-       << to_string(r.previous) << "->" << to_string(r.current) << " " << to_string(r.notice)
-       << "/" << to_string(r.reason);
+       << "ms " << to_string(r.role) << " " << to_string(r.event) << " " << to_string(r.previous)
+       << "->" << to_string(r.current) << " " << to_string(r.notice) << "/" << to_string(r.reason);
     trace_.push_back(os.str());
     if (trace_.size() > 40) trace_.pop_front();
   }
@@ -118,8 +120,8 @@ class Simulation {
     if (!error_.empty()) return;
     std::ostringstream os;
     os << what << " at t=" << (now_ - TimePoint{}).count() << " [" << to_string(r.role) << " "
-       << to_string(r.event) << " " << to_string(r.previous) << "->" << to_string(r.current)
-       << " " << to_string(r.notice) << "/" << to_string(r.reason) << "]";
+       << to_string(r.event) << " " << to_string(r.previous) << "->" << to_string(r.current) << " "
+       << to_string(r.notice) << "/" << to_string(r.reason) << "]";
     error_ = os.str();
   }
 
@@ -258,22 +260,28 @@ class Simulation {
     deliver_due();
     tick();
     switch (pick(0, 9)) {
-      case 0: case 1: case 2:
+      case 0:
+      case 1:
+      case 2:
         requester_app(chaotic);
         break;
-      case 3: case 4: case 5:
+      case 3:
+      case 4:
+      case 5:
         responder_app(chaotic);
         break;
       case 6:
         if (!chaotic) break;
-        if (link_up_ && chance(5)) lose_link();
-        else if (!link_up_ && chance(20)) restore_link();
+        if (link_up_ && chance(5))
+          lose_link();
+        else if (!link_up_ && chance(20))
+          restore_link();
         break;
       case 7:
         if (!chaotic || !cfg_.chaos || !chance(10)) break;
         {
-          ServiceMachine& m = chance(50) ? static_cast<ServiceMachine&>(rq_)
-                                         : static_cast<ServiceMachine&>(rs_);
+          ServiceMachine& m =
+              chance(50) ? static_cast<ServiceMachine&>(rq_) : static_cast<ServiceMachine&>(rs_);
           handle(m.disabled() ? m.enable(now_) : m.disable(now_));
         }
         break;
@@ -286,13 +294,13 @@ class Simulation {
 
   void settle() {
     if (!link_up_) restore_link();
-    for (ServiceMachine* m : {static_cast<ServiceMachine*>(&rq_), static_cast<ServiceMachine*>(&rs_)}) {
+    for (ServiceMachine* m :
+         {static_cast<ServiceMachine*>(&rq_), static_cast<ServiceMachine*>(&rs_)}) {
       if (m->disabled()) handle(m->enable(now_));
     }
     for (int i = 0; i < 4000 && error_.empty(); ++i) {
       random_step(false);
-      if (idle(rq_.state()) && idle(rs_.state()) && to_rq_.queue.empty() &&
-          to_rs_.queue.empty()) {
+      if (idle(rq_.state()) && idle(rs_.state()) && to_rq_.queue.empty() && to_rs_.queue.empty()) {
         return;
       }
     }
@@ -359,13 +367,14 @@ TEST_P(Randomized, InvariantsHoldAndEveryRunRecovers) {
     const std::uint32_t seed = f.first_seed + static_cast<std::uint32_t>(i);
     Simulation sim(seed, f.cfg, cov);
     const std::string error = sim.run();
-    ASSERT_TRUE(error.empty()) << f.name << " seed " << seed << ": " << error
-                               << "\nlast steps:\n" << sim.trace();
+    ASSERT_TRUE(error.empty()) << f.name << " seed " << seed << ": " << error << "\nlast steps:\n"
+                               << sim.trace();
   }
-  std::printf("%s: %d runs, %d services completed, %d FAIL entries, %d recoveries, "
-              "%d comms losses, %d time limits, %d violations reported\n",
-              f.name, f.runs, cov.completed, cov.failures, cov.recoveries, cov.comms_losses,
-              cov.timeouts, cov.violations);
+  std::printf(
+      "%s: %d runs, %d services completed, %d FAIL entries, %d recoveries, "
+      "%d comms losses, %d time limits, %d violations reported\n",
+      f.name, f.runs, cov.completed, cov.failures, cov.recoveries, cov.comms_losses, cov.timeouts,
+      cov.violations);
   EXPECT_GT(cov.completed, f.runs) << "too few services completed";
   EXPECT_GT(cov.failures, f.runs) << "too few failures injected";
   EXPECT_GT(cov.comms_losses, f.runs / 10) << "too few losses of communication";

@@ -26,6 +26,7 @@ std::vector<Expect> with(std::vector<Expect> rows, const std::vector<Expect>& mo
   return rows;
 }
 
+// clang-format off
 std::vector<SetupExpectations> requester_expectations() {
   std::vector<SetupExpectations> all;
   // READY, response READY.
@@ -238,6 +239,8 @@ std::vector<SetupExpectations> requester_expectations() {
   return all;
 }
 
+// clang-format on
+
 const std::vector<SetupExpectations>& expectations() {
   static const std::vector<SetupExpectations> all = requester_expectations();
   return all;
@@ -271,19 +274,21 @@ TEST_P(RequesterTable, EveryEventMatchesTheSpec) {
   EXPECT_EQ(covered.size(), kEventCount) << setup_name(setup.setup) << " does not list every event";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Pairs, RequesterTable, ::testing::ValuesIn(table_cases(expectations().size())),
-    [](const ::testing::TestParamInfo<TableCase>& param_info) {
-      return std::string(param_info.param.profile == Profile::V1_3 ? "V1_3_" : "V1_6_") +
-             setup_name(expectations()[param_info.param.setup_index].setup);
-    });
+INSTANTIATE_TEST_SUITE_P(Pairs, RequesterTable,
+                         ::testing::ValuesIn(table_cases(expectations().size())),
+                         [](const ::testing::TestParamInfo<TableCase>& param_info) {
+                           return std::string(param_info.param.profile == Profile::V1_3 ? "V1_3_"
+                                                                                        : "V1_6_") +
+                                  setup_name(expectations()[param_info.param.setup_index].setup);
+                         });
 
 TEST(RequesterTable, SetupsReachEveryPhaseOfTheRole) {
   std::set<Phase> reached;
   for (const auto& setup : expectations()) {
     reached.insert(requester_in(setup.setup, Profile::V1_6).phase());
   }
-  EXPECT_EQ(reached, (std::set<Phase>{Phase::NotReady, Phase::Ready, Phase::Active, Phase::Fail, Phase::Disabled}));
+  EXPECT_EQ(reached, (std::set<Phase>{Phase::NotReady, Phase::Ready, Phase::Active, Phase::Fail,
+                                      Phase::Disabled}));
 }
 
 TEST(RequesterTable, NeverReachesComplete) {

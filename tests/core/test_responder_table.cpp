@@ -44,12 +44,13 @@ std::vector<Expect> ready_common() {
       both(E::SeenComplete, S::Fail, N::ProtocolViolation, R::CompleteOnRequest),
       // Table 6 condition 2 (both editions).
       both(E::SeenFail, S::Fail, N::CounterpartFailed, R::CounterpartFail),
-      differ(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost,
-             S::Ready, N::CommsLost, R::CommsLost),
+      differ(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost, S::Ready, N::CommsLost,
+             R::CommsLost),
       both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
   };
 }
 
+// clang-format off
 std::vector<SetupExpectations> responder_expectations() {
   std::vector<SetupExpectations> all;
   // READY, request READY.
@@ -243,6 +244,8 @@ std::vector<SetupExpectations> responder_expectations() {
   return all;
 }
 
+// clang-format on
+
 const std::vector<SetupExpectations>& expectations() {
   static const std::vector<SetupExpectations> all = responder_expectations();
   return all;
@@ -280,19 +283,21 @@ TEST_P(ResponderTable, EveryEventMatchesTheSpec) {
   EXPECT_EQ(covered.size(), kEventCount) << setup_name(setup.setup) << " does not list every event";
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Pairs, ResponderTable, ::testing::ValuesIn(table_cases(expectations().size())),
-    [](const ::testing::TestParamInfo<TableCase>& param_info) {
-      return std::string(param_info.param.profile == Profile::V1_3 ? "V1_3_" : "V1_6_") +
-             setup_name(expectations()[param_info.param.setup_index].setup);
-    });
+INSTANTIATE_TEST_SUITE_P(Pairs, ResponderTable,
+                         ::testing::ValuesIn(table_cases(expectations().size())),
+                         [](const ::testing::TestParamInfo<TableCase>& param_info) {
+                           return std::string(param_info.param.profile == Profile::V1_3 ? "V1_3_"
+                                                                                        : "V1_6_") +
+                                  setup_name(expectations()[param_info.param.setup_index].setup);
+                         });
 
 TEST(ResponderTable, SetupsReachEveryPhaseOfTheRole) {
   std::set<Phase> reached;
   for (const auto& setup : expectations()) {
     reached.insert(responder_in(setup.setup, Profile::V1_6).phase());
   }
-  EXPECT_EQ(reached, (std::set<Phase>{Phase::NotReady, Phase::Ready, Phase::Active, Phase::Complete, Phase::Fail, Phase::Disabled}));
+  EXPECT_EQ(reached, (std::set<Phase>{Phase::NotReady, Phase::Ready, Phase::Active, Phase::Complete,
+                                      Phase::Fail, Phase::Disabled}));
 }
 
 TEST(ResponderTable, OnlyAcceptLeadsFromReadyToActive) {

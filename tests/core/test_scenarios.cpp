@@ -18,17 +18,34 @@ StepResult play_table1(Pair& p, int last_step) {
   StepResult r;
   for (int step = 1; step <= last_step; ++step) {
     switch (step) {
-      case 1: r = p.requester.request(p.now); break;
-      case 2: r = p.to_responder(); break;
-      case 3: r = p.responder.accept(p.now); break;
-      case 4: r = p.responder.complete(p.now); break;
-      case 5: r = p.to_requester(); break;  // requester detects COMPLETE ...
-      case 6: r = p.to_requester(); break;  // ... and is back to READY (same step)
-      case 7: r = p.to_responder(); break;  // responder detects READY ...
-      case 8: r = p.to_responder(); break;  // ... and is back to READY
-      default: break;
+      case 1:
+        r = p.requester.request(p.now);
+        break;
+      case 2:
+        r = p.to_responder();
+        break;
+      case 3:
+        r = p.responder.accept(p.now);
+        break;
+      case 4:
+        r = p.responder.complete(p.now);
+        break;
+      case 5:
+        r = p.to_requester();
+        break;  // requester detects COMPLETE ...
+      case 6:
+        r = p.to_requester();
+        break;  // ... and is back to READY (same step)
+      case 7:
+        r = p.to_responder();
+        break;  // responder detects READY ...
+      case 8:
+        r = p.to_responder();
+        break;  // ... and is back to READY
+      default:
+        break;
     }
-    if (step == 3) p.to_requester();  // the requester sees the response ACTIVE
+    if (step == 3) p.to_requester();     // the requester sees the response ACTIVE
     if (step == 5 || step == 7) ++step;  // detection and reaction are one event
   }
   return r;

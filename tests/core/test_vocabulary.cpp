@@ -42,16 +42,16 @@ TEST(Vocabulary, InterfaceTypesRoundTripBothSpellings) {
 }
 
 TEST(Vocabulary, OtherValueSetsRoundTrip) {
-  for (const auto s : {InterfaceState::Unavailable, InterfaceState::Enabled,
-                       InterfaceState::Disabled}) {
+  for (const auto s :
+       {InterfaceState::Unavailable, InterfaceState::Enabled, InterfaceState::Disabled}) {
     EXPECT_EQ(parse_interface_state(to_string(s)), s);
   }
-  for (const auto s : {DoorState::Unavailable, DoorState::Open, DoorState::Unlatched,
-                       DoorState::Closed}) {
+  for (const auto s :
+       {DoorState::Unavailable, DoorState::Open, DoorState::Unlatched, DoorState::Closed}) {
     EXPECT_EQ(parse_door_state(to_string(s)), s);
   }
-  for (const auto s : {ChuckState::Unavailable, ChuckState::Open, ChuckState::Unlatched,
-                       ChuckState::Closed}) {
+  for (const auto s :
+       {ChuckState::Unavailable, ChuckState::Open, ChuckState::Unlatched, ChuckState::Closed}) {
     EXPECT_EQ(parse_chuck_state(to_string(s)), s);
   }
   for (const auto s : {SubType::Request, SubType::Response}) {

@@ -103,12 +103,12 @@ class ServiceMachine {
   Phase phase_ = Phase::Ready;
   TimePoint since_{};
   InteractionState counterpart_ = InteractionState::Unavailable;
-  bool wants_ready_ = true;          // application's last wish
-  bool counterpart_engaged_ = false; // requester: responder went ACTIVE for this request
-  bool acknowledged_ = false;        // our FAIL acknowledged
-  bool ack_waived_ = false;          // fail_ack expired
-  bool fail_pending_ = false;        // counterpart went FAIL, not yet reacted to
-  bool counterpart_lost_ = false;    // last counterpart value was UNAVAILABLE
+  bool wants_ready_ = true;           // application's last wish
+  bool counterpart_engaged_ = false;  // requester: responder went ACTIVE for this request
+  bool acknowledged_ = false;         // our FAIL acknowledged
+  bool ack_waived_ = false;           // fail_ack expired
+  bool fail_pending_ = false;         // counterpart went FAIL, not yet reacted to
+  bool counterpart_lost_ = false;     // last counterpart value was UNAVAILABLE
   bool completion_ack_reported_ = false;
 };
 

@@ -30,7 +30,8 @@ class ServicePreconditions {
 // neither, so a door of unknown state is never moved. Services that are not
 // door/chuck services are always permitted.
 constexpr bool door_permits(Service service, DoorState door) noexcept {
-  if (service == Service::OpenDoor) return door == DoorState::Closed || door == DoorState::Unlatched;
+  if (service == Service::OpenDoor)
+    return door == DoorState::Closed || door == DoorState::Unlatched;
   if (service == Service::CloseDoor) return door == DoorState::Open || door == DoorState::Unlatched;
   return true;
 }

@@ -86,11 +86,11 @@ enum class Reason : std::uint8_t {
   CompleteWithoutRequest,  // response COMPLETE while the request was not ACTIVE
   CompleteWithoutActive,   // response COMPLETE without having been ACTIVE
   // Rejections of application commands.
-  WrongRole,            // e.g. accept() on a requester
-  NotReady,             // own state is NOT_READY
-  NotIdle,              // only allowed in READY / NOT_READY
-  NotActive,            // only allowed in ACTIVE
-  NotFailed,            // recover() outside FAIL
+  WrongRole,  // e.g. accept() on a requester
+  NotReady,   // own state is NOT_READY
+  NotIdle,    // only allowed in READY / NOT_READY
+  NotActive,  // only allowed in ACTIVE
+  NotFailed,  // recover() outside FAIL
   AlreadyActive,
   AlreadyFailed,
   FailNotAcknowledged,  // recover() before the counterpart acknowledged FAIL

@@ -44,19 +44,19 @@ constexpr InteractionState published(Phase p) noexcept {
 // (evaluated in machine.cpp, `guard_holds`).
 enum class Guard : std::uint8_t {
   Always,
-  V13,                     // profile is V1_3
-  V16,                     // profile is V1_6 (also 1.8)
-  Permitted,               // precondition hook allows this service now
+  V13,        // profile is V1_3
+  V16,        // profile is V1_6 (also 1.8)
+  Permitted,  // precondition hook allows this service now
   NotPermitted,
-  WantsReady,              // the application's last wish was READY
-  CounterpartReady,        // counterpart currently READY
-  CounterpartNotReady,     // counterpart currently anything but READY
-  CounterpartEngaged,      // requester: responder went ACTIVE for this request
+  WantsReady,           // the application's last wish was READY
+  CounterpartReady,     // counterpart currently READY
+  CounterpartNotReady,  // counterpart currently anything but READY
+  CounterpartEngaged,   // requester: responder went ACTIVE for this request
   CounterpartNotEngaged,
-  RequestActive,           // responder: request currently ACTIVE
+  RequestActive,  // responder: request currently ACTIVE
   RequestNotActive,
-  AcknowledgesFail,        // the value just seen acknowledges our (unacknowledged) FAIL
-  Acknowledged,            // our FAIL was acknowledged, or the wait was waived
+  AcknowledgesFail,  // the value just seen acknowledges our (unacknowledged) FAIL
+  Acknowledged,      // our FAIL was acknowledged, or the wait was waived
   NotAcknowledged,
   CounterpartFailPending,  // counterpart went FAIL and we have not yet reacted
 };

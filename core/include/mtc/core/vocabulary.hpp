@@ -48,10 +48,9 @@ enum class Service : std::uint8_t {
 enum class InterfaceType : std::uint8_t { BarFeeder, MaterialHandler, Door, Chuck };
 
 inline constexpr std::array<Service, 10> kAllServices = {
-    Service::MaterialFeed, Service::MaterialChange, Service::MaterialRetract,
-    Service::PartChange,   Service::MaterialLoad,   Service::MaterialUnload,
-    Service::OpenDoor,     Service::CloseDoor,      Service::OpenChuck,
-    Service::CloseChuck};
+    Service::MaterialFeed, Service::MaterialChange, Service::MaterialRetract, Service::PartChange,
+    Service::MaterialLoad, Service::MaterialUnload, Service::OpenDoor,        Service::CloseDoor,
+    Service::OpenChuck,    Service::CloseChuck};
 
 inline constexpr std::array<InteractionState, 6> kAllInteractionStates = {
     InteractionState::Unavailable, InteractionState::NotReady, InteractionState::Ready,
