@@ -28,8 +28,9 @@ void Stage::show(const StepResult& r) {
     what += ": ";
     what += describe(r.reason);
   }
+  const auto item = to_string(cnc ? core::SubType::Request : core::SubType::Response);
   std::printf("  t=%6.2fs  %-12s %-9s %-16s %-9s -> %-9s %s\n", t, cnc ? "cnc" : "robot",
-              cnc ? "REQUEST" : "RESPONSE", std::string(to_string(r.event)).c_str(),
+              std::string(item).c_str(), std::string(to_string(r.event)).c_str(),
               std::string(to_string(r.previous)).c_str(), std::string(to_string(r.current)).c_str(),
               what.c_str());
 }
