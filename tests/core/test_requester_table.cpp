@@ -27,10 +27,27 @@ std::vector<Expect> with(std::vector<Expect> rows, const std::vector<Expect>& mo
 }
 
 // clang-format off
-std::vector<SetupExpectations> requester_expectations() {
-  std::vector<SetupExpectations> all;
-  // READY, response READY.
-  all.push_back({Setup::Ready, with({
+// DISABLED (Table 3): NOT_READY, every command refused.
+std::vector<Expect> disabled_commands() {
+  return {
+      both(E::Request, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Accept, S::NotReady, N::Rejected, R::WrongRole),
+      both(E::Complete, S::NotReady, N::Rejected, R::WrongRole),
+      both(E::Fail, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::RecoverReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::RecoverNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::SetReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::SetNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Disable, S::NotReady, N::None),
+      both(E::Reevaluate, S::NotReady, N::None),
+      both(E::SeenUnavailable, S::NotReady, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::NotReady, N::ProtocolViolation, R::UnknownValue),
+  };
+}
+
+// READY, response READY.
+SetupExpectations requester_ready() {
+  return {Setup::Ready, with({
       both(E::Request, S::Active, N::RequestIssued),  // Table 1 step 1
       both(E::Accept, S::Ready, N::Rejected, R::WrongRole),
       both(E::Complete, S::Ready, N::Rejected, R::WrongRole),
@@ -54,10 +71,12 @@ std::vector<SetupExpectations> requester_expectations() {
       differ(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost,
              S::Ready, N::CommsLost, R::CommsLost),
       both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
-  }, idle_timers(S::Ready))});
+  }, idle_timers(S::Ready))};
+}
 
-  // NOT_READY (the application's choice), response READY.
-  all.push_back({Setup::NotReady, with({
+// NOT_READY (the application's choice), response READY.
+SetupExpectations requester_not_ready() {
+  return {Setup::NotReady, with({
       both(E::Request, S::NotReady, N::Rejected, R::NotReady),
       both(E::Accept, S::NotReady, N::Rejected, R::WrongRole),
       both(E::Complete, S::NotReady, N::Rejected, R::WrongRole),
@@ -78,10 +97,12 @@ std::vector<SetupExpectations> requester_expectations() {
       differ(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost,
              S::NotReady, N::CommsLost, R::CommsLost),
       both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
-  }, idle_timers(S::NotReady))});
+  }, idle_timers(S::NotReady))};
+}
 
-  // ACTIVE, response still READY (step 2 not yet seen).
-  all.push_back({Setup::Active, {
+// ACTIVE, response still READY (step 2 not yet seen).
+SetupExpectations requester_active() {
+  return {Setup::Active, {
       both(E::Request, S::Active, N::Rejected, R::AlreadyActive),
       both(E::Accept, S::Active, N::Rejected, R::WrongRole),
       both(E::Complete, S::Active, N::Rejected, R::WrongRole),
@@ -110,10 +131,12 @@ std::vector<SetupExpectations> requester_expectations() {
       both(E::CompletionAckTimeout, S::Active, N::None),
       both(E::FailAckTimeout, S::Active, N::None),
       both(E::FailResetTimeout, S::Active, N::None),
-  }});
+  }};
+}
 
-  // ACTIVE, response ACTIVE (performing the service).
-  all.push_back({Setup::ActiveEngaged, {
+// ACTIVE, response ACTIVE (performing the service).
+SetupExpectations requester_active_engaged() {
+  return {Setup::ActiveEngaged, {
       both(E::Request, S::Active, N::Rejected, R::AlreadyActive),
       both(E::Accept, S::Active, N::Rejected, R::WrongRole),
       both(E::Complete, S::Active, N::Rejected, R::WrongRole),
@@ -142,10 +165,12 @@ std::vector<SetupExpectations> requester_expectations() {
       both(E::CompletionAckTimeout, S::Active, N::None),
       both(E::FailAckTimeout, S::Active, N::None),
       both(E::FailResetTimeout, S::Active, N::None),
-  }});
+  }};
+}
 
-  // FAIL by own failure, response still READY: not acknowledged.
-  all.push_back({Setup::Fail, {
+// FAIL by own failure, response still READY: not acknowledged.
+SetupExpectations requester_fail() {
+  return {Setup::Fail, {
       both(E::Request, S::Fail, N::Rejected, R::AlreadyFailed),
       both(E::Accept, S::Fail, N::Rejected, R::WrongRole),
       both(E::Complete, S::Fail, N::Rejected, R::WrongRole),
@@ -172,10 +197,12 @@ std::vector<SetupExpectations> requester_expectations() {
       // 1.3: FAIL may go back to READY after a period of time.
       differ(E::FailResetTimeout, S::Fail, N::None, R::None,
              S::Ready, N::Recovered, R::FailResetTimeout),
-  }});
+  }};
+}
 
-  // FAIL, response FAIL too: acknowledged, recovery allowed.
-  all.push_back({Setup::FailAcknowledged, {
+// FAIL, response FAIL too: acknowledged, recovery allowed.
+SetupExpectations requester_fail_acknowledged() {
+  return {Setup::FailAcknowledged, {
       both(E::Request, S::Fail, N::Rejected, R::AlreadyFailed),
       both(E::Accept, S::Fail, N::Rejected, R::WrongRole),
       both(E::Complete, S::Fail, N::Rejected, R::WrongRole),
@@ -200,34 +227,24 @@ std::vector<SetupExpectations> requester_expectations() {
       both(E::FailAckTimeout, S::Fail, N::None),
       differ(E::FailResetTimeout, S::Fail, N::None, R::None,
              S::Ready, N::Recovered, R::FailResetTimeout),
-  }});
+  }};
+}
 
-  // DISABLED (Table 3): NOT_READY, every command refused.
-  const std::vector<Expect> disabled_commands = {
-      both(E::Request, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::Accept, S::NotReady, N::Rejected, R::WrongRole),
-      both(E::Complete, S::NotReady, N::Rejected, R::WrongRole),
-      both(E::Fail, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::RecoverReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::RecoverNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::SetReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::SetNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::Disable, S::NotReady, N::None),
-      both(E::Reevaluate, S::NotReady, N::None),
-      both(E::SeenUnavailable, S::NotReady, N::CommsLost, R::CommsLost),
-      both(E::SeenInvalid, S::NotReady, N::ProtocolViolation, R::UnknownValue),
-  };
-  all.push_back({Setup::Disabled, with(with(disabled_commands, {
+SetupExpectations requester_disabled() {
+  return {Setup::Disabled, with(with(disabled_commands(), {
       both(E::Enable, S::Ready, N::Enabled),
       both(E::SeenNotReady, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenReady, S::NotReady, N::None),
       both(E::SeenActive, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenComplete, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenFail, S::NotReady, N::CounterpartFailed, R::InterfaceDisabled),
-  }), idle_timers(S::NotReady))});
-  // DISABLED while the response went FAIL: on ENABLED the request must
-  // acknowledge that FAIL (Table 5 condition 2) under 1.6.
-  all.push_back({Setup::DisabledFailPending, with(with(disabled_commands, {
+  }), idle_timers(S::NotReady))};
+}
+
+// DISABLED while the response went FAIL: on ENABLED the request must
+// acknowledge that FAIL (Table 5 condition 2) under 1.6.
+SetupExpectations requester_disabled_fail_pending() {
+  return {Setup::DisabledFailPending, with(with(disabled_commands(), {
       differ(E::Enable, S::Fail, N::CounterpartFailed, R::CounterpartFail,
              S::Ready, N::Enabled, R::None),
       both(E::SeenNotReady, S::NotReady, N::None, R::InterfaceDisabled),
@@ -235,8 +252,20 @@ std::vector<SetupExpectations> requester_expectations() {
       both(E::SeenActive, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenComplete, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenFail, S::NotReady, N::None),
-  }), idle_timers(S::NotReady))});
-  return all;
+  }), idle_timers(S::NotReady))};
+}
+
+std::vector<SetupExpectations> requester_expectations() {
+  return {
+      requester_ready(),
+      requester_not_ready(),
+      requester_active(),
+      requester_active_engaged(),
+      requester_fail(),
+      requester_fail_acknowledged(),
+      requester_disabled(),
+      requester_disabled_fail_pending(),
+  };
 }
 
 // clang-format on

@@ -51,27 +51,49 @@ std::vector<Expect> ready_common() {
 }
 
 // clang-format off
-std::vector<SetupExpectations> responder_expectations() {
-  std::vector<SetupExpectations> all;
-  // READY, request READY.
-  all.push_back({Setup::Ready, with(with(ready_common(), {
+// DISABLED (Table 3): NOT_READY, every command refused.
+std::vector<Expect> disabled_commands() {
+  return {
+      both(E::Request, S::NotReady, N::Rejected, R::WrongRole),
+      both(E::Accept, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Complete, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Fail, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::RecoverReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::RecoverNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::SetReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::SetNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
+      both(E::Disable, S::NotReady, N::None),
+      both(E::Reevaluate, S::NotReady, N::None),
+      both(E::SeenComplete, S::NotReady, N::ProtocolViolation, R::CompleteOnRequest),
+      both(E::SeenUnavailable, S::NotReady, N::CommsLost, R::CommsLost),
+      both(E::SeenInvalid, S::NotReady, N::ProtocolViolation, R::UnknownValue),
+  };
+}
+
+// READY, request READY.
+SetupExpectations responder_ready() {
+  return {Setup::Ready, with(with(ready_common(), {
       // Table 6 ACTIVE: MUST NOT go ACTIVE unless the request is ACTIVE.
       both(E::Accept, S::Ready, N::Rejected, R::RequestNotActive),
       both(E::SeenNotReady, S::Ready, N::None),
       both(E::SeenReady, S::Ready, N::None),
       both(E::SeenActive, S::Ready, N::RequestObserved),  // Table 1 step 2
-  }), quiet_timers(S::Ready))});
+  }), quiet_timers(S::Ready))};
+}
 
-  // READY, request ACTIVE (step 2 done, waiting for the application).
-  all.push_back({Setup::ResponderReadyRequestActive, with(with(ready_common(), {
+// READY, request ACTIVE (step 2 done, waiting for the application).
+SetupExpectations responder_responder_ready_request_active() {
+  return {Setup::ResponderReadyRequestActive, with(with(ready_common(), {
       both(E::Accept, S::Active, N::Accepted),  // step 3
       both(E::SeenNotReady, S::Ready, N::None),
       both(E::SeenReady, S::Ready, N::None),
       both(E::SeenActive, S::Ready, N::None),
-  }), quiet_timers(S::Ready))});
+  }), quiet_timers(S::Ready))};
+}
 
-  // NOT_READY by the application's wish, request READY.
-  all.push_back({Setup::NotReady, with({
+// NOT_READY by the application's wish, request READY.
+SetupExpectations responder_not_ready() {
+  return {Setup::NotReady, with({
       both(E::Request, S::NotReady, N::Rejected, R::WrongRole),
       both(E::Accept, S::NotReady, N::Rejected, R::NotReady),
       both(E::Complete, S::NotReady, N::Rejected, R::NotActive),
@@ -92,10 +114,12 @@ std::vector<SetupExpectations> responder_expectations() {
       differ(E::SeenUnavailable, S::Fail, N::CommsLost, R::CommsLost,
              S::NotReady, N::CommsLost, R::CommsLost),
       both(E::SeenInvalid, S::Fail, N::ProtocolViolation, R::UnknownValue),
-  }, quiet_timers(S::NotReady))});
+  }, quiet_timers(S::NotReady))};
+}
 
-  // ACTIVE, request ACTIVE: performing the service.
-  all.push_back({Setup::Active, {
+// ACTIVE, request ACTIVE: performing the service.
+SetupExpectations responder_active() {
+  return {Setup::Active, {
       both(E::Request, S::Active, N::Rejected, R::WrongRole),
       both(E::Accept, S::Active, N::Rejected, R::AlreadyActive),
       both(E::Complete, S::Complete, N::Completed),  // step 4
@@ -120,10 +144,12 @@ std::vector<SetupExpectations> responder_expectations() {
       both(E::CompletionAckTimeout, S::Active, N::None),
       both(E::FailAckTimeout, S::Active, N::None),
       both(E::FailResetTimeout, S::Active, N::None),
-  }});
+  }};
+}
 
-  // COMPLETE, request still ACTIVE.
-  all.push_back({Setup::Complete, {
+// COMPLETE, request still ACTIVE.
+SetupExpectations responder_complete() {
+  return {Setup::Complete, {
       both(E::Request, S::Complete, N::Rejected, R::WrongRole),
       both(E::Accept, S::Complete, N::Rejected, R::NotIdle),
       both(E::Complete, S::Complete, N::Rejected, R::NotActive),
@@ -148,11 +174,13 @@ std::vector<SetupExpectations> responder_expectations() {
       both(E::CompletionAckTimeout, S::Complete, N::TimedOut, R::CompletionAckTimeout),
       both(E::FailAckTimeout, S::Complete, N::None),
       both(E::FailResetTimeout, S::Complete, N::None),
-  }});
+  }};
+}
 
-  // FAIL by own failure, request READY. Under 1.3 a request out of ACTIVE
-  // already acknowledges the response's FAIL.
-  all.push_back({Setup::Fail, {
+// FAIL by own failure, request READY. Under 1.3 a request out of ACTIVE
+// already acknowledges the response's FAIL.
+SetupExpectations responder_fail() {
+  return {Setup::Fail, {
       both(E::Request, S::Fail, N::Rejected, R::WrongRole),
       both(E::Accept, S::Fail, N::Rejected, R::AlreadyFailed),
       both(E::Complete, S::Fail, N::Rejected, R::NotActive),
@@ -180,10 +208,12 @@ std::vector<SetupExpectations> responder_expectations() {
              R::None),
       differ(E::FailResetTimeout, S::Fail, N::None, R::None,
              S::Ready, N::Recovered, R::FailResetTimeout),
-  }});
+  }};
+}
 
-  // FAIL, request FAIL: acknowledged (both editions).
-  all.push_back({Setup::FailAcknowledged, {
+// FAIL, request FAIL: acknowledged (both editions).
+SetupExpectations responder_fail_acknowledged() {
+  return {Setup::FailAcknowledged, {
       both(E::Request, S::Fail, N::Rejected, R::WrongRole),
       both(E::Accept, S::Fail, N::Rejected, R::AlreadyFailed),
       both(E::Complete, S::Fail, N::Rejected, R::NotActive),
@@ -208,40 +238,43 @@ std::vector<SetupExpectations> responder_expectations() {
       both(E::FailAckTimeout, S::Fail, N::None),
       differ(E::FailResetTimeout, S::Fail, N::None, R::None,
              S::Ready, N::Recovered, R::FailResetTimeout),
-  }});
+  }};
+}
 
-  const std::vector<Expect> disabled_commands = {
-      both(E::Request, S::NotReady, N::Rejected, R::WrongRole),
-      both(E::Accept, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::Complete, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::Fail, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::RecoverReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::RecoverNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::SetReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::SetNotReady, S::NotReady, N::Rejected, R::InterfaceDisabled),
-      both(E::Disable, S::NotReady, N::None),
-      both(E::Reevaluate, S::NotReady, N::None),
-      both(E::SeenComplete, S::NotReady, N::ProtocolViolation, R::CompleteOnRequest),
-      both(E::SeenUnavailable, S::NotReady, N::CommsLost, R::CommsLost),
-      both(E::SeenInvalid, S::NotReady, N::ProtocolViolation, R::UnknownValue),
-  };
-  all.push_back({Setup::Disabled, with(with(disabled_commands, {
+SetupExpectations responder_disabled() {
+  return {Setup::Disabled, with(with(disabled_commands(), {
       both(E::Enable, S::Ready, N::Enabled),
       both(E::SeenNotReady, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenReady, S::NotReady, N::None),
       both(E::SeenActive, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenFail, S::NotReady, N::CounterpartFailed, R::InterfaceDisabled),
-  }), quiet_timers(S::NotReady))});
-  // The request went FAIL while DISABLED: ENABLED acknowledges it (both
-  // editions: Table 6 condition 2, 1.3 "the response will fail as well").
-  all.push_back({Setup::DisabledFailPending, with(with(disabled_commands, {
+  }), quiet_timers(S::NotReady))};
+}
+
+// The request went FAIL while DISABLED: ENABLED acknowledges it (both
+// editions: Table 6 condition 2, 1.3 "the response will fail as well").
+SetupExpectations responder_disabled_fail_pending() {
+  return {Setup::DisabledFailPending, with(with(disabled_commands(), {
       both(E::Enable, S::Fail, N::CounterpartFailed, R::CounterpartFail),
       both(E::SeenNotReady, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenReady, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenActive, S::NotReady, N::None, R::InterfaceDisabled),
       both(E::SeenFail, S::NotReady, N::None),
-  }), quiet_timers(S::NotReady))});
-  return all;
+  }), quiet_timers(S::NotReady))};
+}
+
+std::vector<SetupExpectations> responder_expectations() {
+  return {
+      responder_ready(),
+      responder_responder_ready_request_active(),
+      responder_not_ready(),
+      responder_active(),
+      responder_complete(),
+      responder_fail(),
+      responder_fail_acknowledged(),
+      responder_disabled(),
+      responder_disabled_fail_pending(),
+  };
 }
 
 // clang-format on
