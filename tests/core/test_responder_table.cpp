@@ -82,7 +82,7 @@ SetupExpectations responder_ready() {
 }
 
 // READY, request ACTIVE (step 2 done, waiting for the application).
-SetupExpectations responder_responder_ready_request_active() {
+SetupExpectations responder_ready_request_active() {
   return {Setup::ResponderReadyRequestActive, with(with(ready_common(), {
       both(E::Accept, S::Active, N::Accepted),  // step 3
       both(E::SeenNotReady, S::Ready, N::None),
@@ -266,7 +266,7 @@ SetupExpectations responder_disabled_fail_pending() {
 std::vector<SetupExpectations> responder_expectations() {
   return {
       responder_ready(),
-      responder_responder_ready_request_active(),
+      responder_ready_request_active(),
       responder_not_ready(),
       responder_active(),
       responder_complete(),
