@@ -3,7 +3,6 @@
 // the pure state machines of mtc::core on a simulated clock, and prints every
 // transition of a success run and of failure scenarios 1-6.
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 #include <string_view>
 
@@ -35,13 +34,14 @@ struct Options {
   int scenario = -1;  // -1 = all
 };
 
-bool parse(int argc, char** argv, Options& o) {
+enum class Parsed { Run, Help, Bad };
+
+Parsed parse(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
     const bool has_value = i + 1 < argc;
     if (arg == "--help" || arg == "-h") {
-      usage(stdout);
-      std::exit(0);
+      return Parsed::Help;
     } else if (arg == "--profile" && has_value) {
       const std::string_view v = argv[++i];
       if (v == "1.6" || v == "1.8") {
@@ -50,18 +50,18 @@ bool parse(int argc, char** argv, Options& o) {
         o.v16 = false;
         o.only_differences_13 = false;
       } else if (v != "all") {
-        return false;
+        return Parsed::Bad;
       }
     } else if (arg == "--scenario" && has_value) {
       const std::string_view v = argv[++i];
       if (v == "all") continue;
-      if (v.size() != 1 || v[0] < '0' || v[0] > '7') return false;
+      if (v.size() != 1 || v[0] < '0' || v[0] > '7') return Parsed::Bad;
       o.scenario = v[0] - '0';
     } else {
-      return false;
+      return Parsed::Bad;
     }
   }
-  return true;
+  return Parsed::Run;
 }
 
 void play(const mtc::demo::Scenario& s, Profile p) {
@@ -74,9 +74,15 @@ void play(const mtc::demo::Scenario& s, Profile p) {
 
 int main(int argc, char** argv) {
   Options o;
-  if (!parse(argc, argv, o)) {
-    usage(stderr);
-    return 2;
+  switch (parse(argc, argv, o)) {
+    case Parsed::Help:
+      usage(stdout);
+      return 0;
+    case Parsed::Bad:
+      usage(stderr);
+      return 2;
+    case Parsed::Run:
+      break;
   }
   std::printf(
       "MTConnect Part 5 interaction model: cnc requests MATERIAL_LOAD, robot responds.\n"

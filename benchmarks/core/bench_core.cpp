@@ -15,7 +15,7 @@ namespace {
 
 using namespace mtc::core;
 
-const TimePoint kNow{};
+constexpr TimePoint kNow{};
 
 // One application command: READY <-> NOT_READY, two transitions per loop.
 void BM_Transition(benchmark::State& state) {
