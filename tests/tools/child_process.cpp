@@ -3,7 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <sys/pidfd.h>
+#include <sys/syscall.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -53,7 +53,8 @@ ChildProcess::ChildProcess(std::vector<std::string> argv) : argv_(std::move(argv
   close(err_pipe[1]);
   out_fd_ = out_pipe[0];
   err_fd_ = err_pipe[0];
-  pidfd_ = pidfd_open(pid_, 0);
+  // Through syscall(): bookworm's <sys/pidfd.h> lacks C linkage for C++.
+  pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));
   if (pidfd_ < 0) throw_errno("pidfd_open");
 }
 

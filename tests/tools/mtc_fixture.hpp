@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -82,6 +83,14 @@ inline std::vector<std::string> transitions(const ChildProcess& p, int handshake
                   json_field(line, "state").value_or("?"));
   }
   return out;
+}
+
+// The transitions of handshake n from the request going ACTIVE on (drops
+// what was seen while waiting for the responder to be READY).
+inline std::vector<std::string> steps_from_request(const ChildProcess& p, int handshake) {
+  auto all = transitions(p, handshake);
+  auto first = std::find(all.begin(), all.end(), "request:ACTIVE");
+  return {first, all.end()};
 }
 
 // Waits for the outcome line of handshake n.

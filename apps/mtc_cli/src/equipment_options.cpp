@@ -108,13 +108,9 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
 
 void add_fail_options(CommandSpec& spec, bool responder) {
   spec.options.push_back({"fail-at", "STEP",
-                          responder ? "inject a failure: accept (instead of ACTIVE), active (mid-action), complete"
-                                    : "inject a failure: active (while the responder is ACTIVE)",
+                          responder ? "go FAIL at: accept (instead of ACTIVE), active (mid-action), complete"
+                                    : "go FAIL at: active (while the responder is ACTIVE)",
                           "none"});
-  spec.options.push_back({"fail-to", "STATE",
-                          responder ? "state the failure goes to: fail or not-ready (scenario 5)"
-                                    : "state the failure goes to: fail, ready (scenario 4) or not-ready",
-                          "fail"});
   spec.options.push_back({"fail-on", "N[,M...]", "handshake numbers the failure applies to", "every one"});
   if (responder) {
     spec.options.push_back({"fail-rate", "P", "fail each handshake with probability P (0-1)", "0"});
@@ -124,7 +120,6 @@ void add_fail_options(CommandSpec& spec, bool responder) {
 
 FailPlan parse_fail_options(const ParsedArgs& args, bool responder) {
   FailStep step = FailStep::None;
-  FailTarget target = FailTarget::Fail;
   if (auto s = args.value("fail-at")) {
     auto parsed = parse_fail_step(*s);
     const bool allowed = parsed && (responder || *parsed == FailStep::Active || *parsed == FailStep::None);
@@ -134,14 +129,6 @@ FailPlan parse_fail_options(const ParsedArgs& args, bool responder) {
     }
     step = *parsed;
   }
-  if (auto t = args.value("fail-to")) {
-    auto parsed = parse_fail_target(*t);
-    if (!parsed || (responder && *parsed == FailTarget::Ready)) {
-      throw UsageError(std::string("--fail-to expects ") +
-                       (responder ? "fail or not-ready" : "fail, ready or not-ready") + ", got '" + *t + "'");
-    }
-    target = *parsed;
-  }
   std::vector<std::uint64_t> only_on;
   if (auto on = args.value("fail-on")) {
     for (const auto& n : split_list(*on)) only_on.push_back(static_cast<std::uint64_t>(to_int("fail-on", n, 1, INT64_MAX)));
@@ -150,7 +137,7 @@ FailPlan parse_fail_options(const ParsedArgs& args, bool responder) {
   std::uint64_t seed = 1;
   if (auto r = args.value("fail-rate")) rate = to_double("fail-rate", *r, 0.0, 1.0);
   if (auto s = args.value("seed")) seed = static_cast<std::uint64_t>(to_int("seed", *s, 0, INT64_MAX));
-  return FailPlan(step, target, std::move(only_on), rate, seed);
+  return FailPlan(step, std::move(only_on), rate, seed);
 }
 
 }  // namespace mtc::cli

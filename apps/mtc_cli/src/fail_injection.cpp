@@ -12,13 +12,6 @@ std::optional<FailStep> parse_fail_step(std::string_view text) {
   return std::nullopt;
 }
 
-std::optional<FailTarget> parse_fail_target(std::string_view text) {
-  if (text == "fail") return FailTarget::Fail;
-  if (text == "not-ready") return FailTarget::NotReady;
-  if (text == "ready") return FailTarget::Ready;
-  return std::nullopt;
-}
-
 std::string_view to_string(FailStep step) {
   switch (step) {
     case FailStep::None: return "none";
@@ -29,18 +22,9 @@ std::string_view to_string(FailStep step) {
   return "none";
 }
 
-std::string_view to_string(FailTarget target) {
-  switch (target) {
-    case FailTarget::Fail: return "fail";
-    case FailTarget::NotReady: return "not-ready";
-    case FailTarget::Ready: return "ready";
-  }
-  return "fail";
-}
-
-FailPlan::FailPlan(FailStep step, FailTarget target, std::vector<std::uint64_t> only_on,
-                   double rate, std::uint64_t seed)
-    : step_(step), target_(target), only_on_(std::move(only_on)), rate_(rate), rng_(seed) {}
+FailPlan::FailPlan(FailStep step, std::vector<std::uint64_t> only_on, double rate,
+                   std::uint64_t seed)
+    : step_(step), only_on_(std::move(only_on)), rate_(rate), rng_(seed) {}
 
 FailDecision FailPlan::decide(std::uint64_t n) {
   if (rate_ > 0) {
@@ -50,13 +34,13 @@ FailDecision FailPlan::decide(std::uint64_t n) {
     const bool hit = coin(rng_) < rate_;
     const auto random_step = static_cast<FailStep>(pick(rng_));
     if (!hit) return {};
-    return {step_ == FailStep::None ? random_step : step_, target_};
+    return {step_ == FailStep::None ? random_step : step_};
   }
   if (step_ == FailStep::None) return {};
   if (!only_on_.empty() && std::find(only_on_.begin(), only_on_.end(), n) == only_on_.end()) {
     return {};
   }
-  return {step_, target_};
+  return {step_};
 }
 
 }  // namespace mtc::cli

@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "mtc/dds/error.hpp"
 
 namespace {
 
@@ -62,6 +63,10 @@ int run_command(const Command& command, const std::vector<std::string>& args) {
   } catch (const mtc::cli::UsageError& e) {
     err.line("mtc " + command.spec.name + ": error: " + e.what() + "\nTry 'mtc " +
              command.spec.name + " --help'.");
+    return mtc::cli::kExitUsage;
+  } catch (const mtc::dds::ConfigError& e) {
+    // Bad device uuid / interface id and the like: the user's input.
+    err.line("mtc " + command.spec.name + ": error: " + e.what());
     return mtc::cli::kExitUsage;
   } catch (const std::exception& e) {
     err.line("mtc " + command.spec.name + ": " + e.what());

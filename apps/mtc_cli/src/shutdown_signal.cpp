@@ -48,12 +48,20 @@ void ShutdownSignal::run() {
 }
 
 void ShutdownSignal::request(int signal_number) {
+  std::function<void()> listener;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!requested_) signal_number_ = signal_number;
     requested_ = true;
+    listener = listener_;
   }
   cv_.notify_all();
+  if (listener) listener();
+}
+
+void ShutdownSignal::set_listener(std::function<void()> listener) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  listener_ = std::move(listener);
 }
 
 void ShutdownSignal::poke() {

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -33,6 +34,9 @@ class ShutdownSignal {
   // Wakes waiters without requesting shutdown, so they can re-check their own
   // condition (e.g. a runtime callback delivered an outcome).
   void poke();
+  // Called (from the signal thread) after a shutdown request, e.g. to wake an
+  // event queue that waits on its own condition variable. Set before use.
+  void set_listener(std::function<void()> listener);
 
  private:
   void run();
@@ -43,6 +47,7 @@ class ShutdownSignal {
   std::mutex mutex_;
   std::condition_variable cv_;
   std::uint64_t pokes_ = 0;
+  std::function<void()> listener_;
   std::thread thread_;
 };
 

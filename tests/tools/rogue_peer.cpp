@@ -1,0 +1,142 @@
+#include "rogue_peer.hpp"
+
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "mtc/dds/domain_observer.hpp"
+#include "mtc/dds/entities.hpp"
+#include "mtc/dds/topics.hpp"
+#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace mtc::test {
+
+namespace fdds = eprosima::fastdds::dds;
+
+struct RoguePeer::Impl {
+  struct Listener : fdds::DataWriterListener {};
+
+  Impl(int domain, const std::string& device, const qos::Timing& t)
+      : timing(t),
+        participant(domain, qos::participant_qos({"rogue-" + device, qos::Transport::LoopbackUdp, {}, t})) {}
+
+  // Writes the current value; repeat = heartbeat of an unchanged value.
+  void publish(bool repeat) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (repeat) {
+      sample.heartbeat_count(sample.heartbeat_count() + 1);
+    } else {
+      sample.sequence_number(sample.sequence_number() + 1);
+      sample.heartbeat_count(0);
+      sample.source_time_ns(dds::topics::realtime_ns());
+    }
+    writer->write(sample);
+  }
+
+  void heartbeat_loop() {
+    std::unique_lock<std::mutex> lock(stop_mutex);
+    // A periodic timer (the heartbeat contract), not synchronisation.
+    while (!stop_cv.wait_for(lock, timing.heartbeat, [&] { return stopping; })) {
+      lock.unlock();
+      publish(true);
+      lock.lock();
+    }
+  }
+
+  qos::Timing timing;
+  dds::Participant participant;
+  std::unique_ptr<dds::Topic> topic;
+  std::unique_ptr<dds::Publisher> publisher;
+  Listener listener;
+  std::unique_ptr<dds::Writer<idl::InteractionSample>> writer;
+  std::mutex mutex;
+  idl::InteractionSample sample;
+
+  std::mutex seen_mutex;
+  std::condition_variable seen_cv;
+  std::vector<core::InteractionState> seen;  // every change, in order
+  std::size_t next_seen = 0;                 // first one not yet waited for
+  std::unique_ptr<dds::DomainObserver> observer;
+
+  std::mutex stop_mutex;
+  std::condition_variable stop_cv;
+  bool stopping = false;
+  std::thread heartbeat;
+};
+
+RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& interface_id,
+                     core::Service service, core::SubType own_side, const std::string& counterpart)
+    : impl_(std::make_unique<Impl>(domain, device, qos::Timing{})) {
+  auto& i = *impl_;
+  fdds::TypeSupport type(new idl::InteractionSamplePubSubType());
+  i.participant.register_type(type);
+  const bool request = own_side == core::SubType::Request;
+  i.topic = std::make_unique<dds::Topic>(
+      i.participant, request ? dds::topics::kInteractionRequest : dds::topics::kInteractionResponse,
+      type.get_type_name(), qos::state_topic(i.timing).topic_qos());
+  i.publisher = std::make_unique<dds::Publisher>(
+      i.participant, std::vector<std::string>{dds::topics::device_partition(device)});
+  i.writer = std::make_unique<dds::Writer<idl::InteractionSample>>(
+      *i.publisher, *i.topic, qos::state_topic(i.timing).writer_qos(), i.listener);
+  i.sample.device_uuid(device);
+  i.sample.data_item_id(dds::topics::interaction_item_id(interface_id, service, own_side));
+  i.sample.interface_id(interface_id);
+  i.sample.service(dds::topics::to_idl(service));
+  i.sample.sub_type(dds::topics::to_idl(own_side));
+  i.sample.state(dds::topics::to_idl(core::InteractionState::NotReady));
+
+  const auto wanted = request ? core::SubType::Response : core::SubType::Request;
+  dds::DomainObserverOptions options;
+  options.domain_id = domain;
+  options.device_filter = {counterpart};
+  dds::DomainObserverCallbacks callbacks;
+  callbacks.on_value = [&i, service, wanted](const dds::ObservedValue& v) {
+    if (v.service != service || v.sub_type != wanted) return;
+    const auto parsed = core::parse_interaction_state(v.value);
+    if (!parsed) return;
+    {
+      std::lock_guard<std::mutex> lock(i.seen_mutex);
+      if (i.seen.empty() || i.seen.back() != *parsed) i.seen.push_back(*parsed);
+    }
+    i.seen_cv.notify_all();
+  };
+  i.observer = std::make_unique<dds::DomainObserver>(options, std::move(callbacks));
+  i.publish(false);
+  i.heartbeat = std::thread([&i] { i.heartbeat_loop(); });
+}
+
+RoguePeer::~RoguePeer() {
+  {
+    std::lock_guard<std::mutex> lock(impl_->stop_mutex);
+    impl_->stopping = true;
+  }
+  impl_->stop_cv.notify_all();
+  impl_->heartbeat.join();
+}
+
+void RoguePeer::set_state(core::InteractionState state) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->sample.state(dds::topics::to_idl(state));
+  }
+  impl_->publish(false);
+}
+
+bool RoguePeer::wait_counterpart(core::InteractionState state, std::chrono::milliseconds timeout) {
+  auto& i = *impl_;
+  std::unique_lock<std::mutex> lock(i.seen_mutex);
+  return i.seen_cv.wait_for(lock, timeout, [&] {
+    for (; i.next_seen < i.seen.size(); ++i.next_seen) {
+      if (i.seen[i.next_seen] == state) {
+        ++i.next_seen;
+        return true;
+      }
+    }
+    return false;
+  });
+}
+
+}  // namespace mtc::test
