@@ -48,9 +48,11 @@ class ServiceMachine {
   // --- Application commands common to both roles -----------------------
   StepResult fail(TimePoint now) noexcept;
   // Clear FAIL to READY or NOT_READY (anything else: Rejected/InvalidTarget).
-  // Under V1_6 allowed only once the counterpart acknowledged the FAIL (or
-  // TimeLimits::fail_ack expired). READY may still land on NOT_READY when the
-  // precondition hook says no.
+  // Allowed only once the counterpart acknowledged this FAIL (Tables 5/6
+  // ACTIONS): by showing a fresh FAIL; under V1_3 a request also
+  // acknowledges a response FAIL by leaving ACTIVE; a counterpart without a
+  // FAIL state by being out of ACTIVE/COMPLETE. TimeLimits::fail_ack waives
+  // the wait. READY may still land on NOT_READY when the hook says no.
   StepResult recover(InteractionState target, TimePoint now) noexcept;
   StepResult set_ready(TimePoint now) noexcept;
   StepResult set_not_ready(TimePoint now) noexcept;
@@ -62,8 +64,9 @@ class ServiceMachine {
   StepResult reevaluate(TimePoint now) noexcept;
 
   // --- Time ---------------------------------------------------------------
-  // Fires the earliest expired time limit, if any (Notice::None otherwise).
-  // At most one limit per call: call again while next_deadline() <= now.
+  // Fires the earliest expired time limit, if any; otherwise returns an
+  // unchanged result with Notice::None. At most one limit per call: call
+  // again while next_deadline() <= now.
   StepResult on_tick(TimePoint now) noexcept;
   // Earliest instant a time limit expires, kNever when none is armed. Also
   // "now" (the phase's start) when a deferred reaction is due: a counterpart
