@@ -396,3 +396,74 @@ INSTANTIATE_TEST_SUITE_P(
 
 }  // namespace
 }  // namespace mtc::core::testing_support
+
+namespace mtc::core::testing_support {
+namespace {
+
+// Arbitrary inputs, including values outside every enum, never break a
+// machine: every result is well-formed and the Table 5/6 invariants hold.
+void fuzz(ServiceMachine& m, std::mt19937& rng, int steps) {
+  std::uniform_int_distribution<int> any_event(0, static_cast<int>(kEventCount) + 3);
+  std::uniform_int_distribution<int> any_value(0, 8);
+  std::uniform_int_distribution<int> kind(0, 3);
+  std::uniform_int_distribution<int> dt(0, 3000);
+  TimePoint now{};
+  for (int i = 0; i < steps; ++i) {
+    now += std::chrono::milliseconds(dt(rng));
+    StepResult r;
+    switch (kind(rng)) {
+      case 0:
+        r = m.on_counterpart(static_cast<S>(any_value(rng)), now);
+        break;
+      case 1:
+        r = m.on_tick(now);
+        break;
+      default:
+        r = m.step(static_cast<Event>(any_event(rng)), now);
+        break;
+    }
+    ASSERT_EQ(r.current, m.state()) << "step " << i;
+    ASSERT_EQ(r.role, m.role());
+    ASSERT_LE(static_cast<int>(r.current), static_cast<int>(S::Fail));
+    if (r.rejected()) {
+      ASSERT_FALSE(r.changed()) << "step " << i;
+    }
+    if (m.role() == Role::Requester) {
+      ASSERT_NE(m.state(), S::Complete);
+    }
+    if (r.changed() && r.current == S::Active && m.role() == Role::Responder) {
+      ASSERT_EQ(m.counterpart(), S::Active);
+    }
+    if (r.changed() && r.current == S::Complete) {
+      ASSERT_EQ(r.previous, S::Active);
+    }
+    if (m.disabled()) {
+      ASSERT_EQ(m.state(), S::NotReady);
+    }
+    const TimePoint next = m.next_deadline();
+    ASSERT_TRUE(next == kNever || next >= m.phase_since());
+  }
+}
+
+TEST(Fuzz, ArbitraryInputsKeepEveryMachineWellFormed) {
+  for (const auto profile : {Profile::V1_6, Profile::V1_3}) {
+    for (std::uint32_t seed = 0; seed < 40; ++seed) {
+      std::mt19937 rng(seed);
+      MachineOptions o;
+      o.profile = profile;
+      o.counterpart_has_fail = seed % 3 != 0;
+      o.limits.response = std::chrono::seconds(seed % 2 ? 2 : 0);
+      o.limits.service = std::chrono::seconds(5);
+      o.limits.completion_ack = std::chrono::seconds(seed % 4 ? 3 : 0);
+      o.limits.fail_ack = std::chrono::seconds(seed % 5 ? 4 : 0);
+      Requester rq(Service::OpenDoor, o);
+      Responder rs(Service::CloseChuck, o);
+      SCOPED_TRACE(::testing::Message() << "seed " << seed);
+      fuzz(rq, rng, 2000);
+      fuzz(rs, rng, 2000);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace mtc::core::testing_support
