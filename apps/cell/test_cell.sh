@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# CTest driver for the simulated cell (registered in apps/cell/CMakeLists.txt).
+#   test_cell.sh local  <mtc-cell>                 scripts over the in-memory link
+#   test_cell.sh dds    <mtc-cell> <domain>        3 processes over DDS, bounded run
+#   test_cell.sh sigint <mtc-cell> <domain>        Ctrl-C stops every station, exit 0
+#   test_cell.sh start  <build-dir> <domain> <port> scripts/start.sh: bridge serves the cell
+# Runs inside the loopback-only namespace (the CMake entry wraps it in
+# scripts/netns-run.sh, which is a no-op when ctest already runs inside one).
+set -uo pipefail
+mode="$1"
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+
+fail() {
+  echo "FAIL: $*" >&2
+  echo "---- output ----" >&2
+  cat "$log" >&2
+  exit 1
+}
+
+expect() {  # expect <regex> <what>
+  grep -Eq "$1" "$log" || fail "missing: $2 (/$1/)"
+}
+
+count() { grep -Ec "$1" "$log" || true; }
+
+# Checks of a bounded run with a failure every 2nd cycle (seed 7).
+check_bounded_run() {
+  local cycles="$1"
+  expect "cell summary: $cycles cycles complete" "all $cycles cycles"
+  # Every handshake kind of the cell completed at least once.
+  for s in MATERIAL_FEED MATERIAL_LOAD MATERIAL_UNLOAD OPEN_DOOR CLOSE_DOOR OPEN_CHUCK CLOSE_CHUCK; do
+    expect "$s +done in .* both READY" "a completed $s handshake"
+  done
+  local injected
+  injected="$(count '!! .*injected failure')"
+  [ "$injected" -ge $((cycles / 2)) ] || fail "expected >= $((cycles / 2)) injected failures, saw $injected"
+  # The machine saw each one fail its step and recovered from every failure.
+  local summary failures recovered
+  summary="$(grep -E 'cell summary' "$log")"
+  failures="$(sed -E 's/.* ([0-9]+) failures.*/\1/' <<<"$summary")"
+  recovered="$(sed -E 's/.* ([0-9]+) recovered.*/\1/' <<<"$summary")"
+  [ "$failures" -ge "$injected" ] || fail "machine saw $failures failures for $injected injected"
+  [ "$failures" = "$recovered" ] || fail "$failures failures but $recovered recovered"
+  expect "request recovered: FAIL -> READY" "a requester recovering"
+  expect "response recovered -> READY" "a responder recovering"
+  grep -Eq "UNRECOVERED|could not recover" "$log" && fail "a failure was not recovered"
+  return 0
+}
+
+case "$mode" in
+  local)
+    timeout 120 "$2" --local --cycles 10 --fail-every 2 --seed 7 --pace-ms 5 >"$log" 2>&1 ||
+      fail "mtc-cell --local exited with $?"
+    check_bounded_run 10
+    # Ten cycles with one failure per two cycles take every fault point in turn.
+    for scenario in 1 2 3; do
+      expect "injected failure, scenario $scenario" "scenario $scenario injected"
+    done ;;
+  dds)
+    timeout 150 "$2" --cycles 6 --fail-every 2 --seed 7 --pace-ms 10 --domain "$3" >"$log" 2>&1 ||
+      fail "mtc-cell exited with $?"
+    check_bounded_run 6
+    expect "all stations stopped, exit code 0" "a clean stop of every station" ;;
+  sigint)
+    "$2" --pace-ms 10 --domain "$3" >"$log" 2>&1 &
+    pid=$!
+    # Block until the first cycle is through (an event in the output, no sleep).
+    timeout 60 grep -m1 -q "cycle 1 complete" <(tail -n +1 -f "$log") ||
+      { kill -KILL "$pid"; fail "no cycle completed"; }
+    stations="$(grep -Eo 'pid [0-9]+' "$log" | awk '{print $2}')"
+    kill -INT "$pid"
+    rc=0
+    timeout 30 tail --pid="$pid" -f /dev/null || { kill -KILL "$pid"; fail "not stopped in 30 s"; }
+    wait "$pid" || rc=$?
+    [ "$rc" = 0 ] || fail "exit code $rc after SIGINT"
+    for p in $stations; do
+      kill -0 "$p" 2>/dev/null && fail "station pid $p still running"
+    done
+    expect "stop requested: stopping every station" "the stop being handed to the stations"
+    expect "all stations stopped, exit code 0" "every station stopped" ;;
+  start)
+    build="$2" domain="$3" port="$4"
+    MTC_BUILD_DIR="$build" "$root/scripts/start.sh" --no-build --domain "$domain" --port "$port" \
+      --pace-ms 10 >"$log" 2>&1 &
+    pid=$!
+    timeout 60 grep -m1 -q "cycle 1 complete" <(tail -n +1 -f "$log") ||
+      { kill -TERM "$pid"; fail "no cycle completed"; }
+    current="$(curl -sS --max-time 10 "http://127.0.0.1:$port/current")" ||
+      { kill -TERM "$pid"; fail "bridge did not answer /current"; }
+    kill -TERM "$pid"
+    rc=0
+    wait "$pid" || rc=$?
+    [ "$rc" = 0 ] || fail "start.sh exit code $rc after SIGTERM"
+    for needle in 'uuid="cell-machine"' 'uuid="cell-robot"' 'uuid="cell-feeder"' \
+                  '<MaterialLoad' '<OpenDoor' '<DoorState' '<ChuckState' '<MaterialFeed'; do
+      grep -q "$needle" <<<"$current" || { echo "$current" >>"$log"; fail "/current lacks $needle"; }
+    done
+    expect "cell stopped \(exit code 0\)" "start.sh reporting a clean stop" ;;
+  *)
+    echo "usage: test_cell.sh local|dds|sigint|start ..." >&2
+    exit 2 ;;
+esac
+echo "ok: $mode"
