@@ -70,6 +70,9 @@ class AgentImpl final : public MtconnectAgent {
   // The model's uuid for a DDS device uuid (a Devices file may know the
   // device under another uuid but the same name).
   const std::string& model_uuid(const std::string& dds_uuid) const;
+  // Devices-file models: find (or map) the file's item for a DDS item.
+  void resolve_announced(const dds::ObservedDevice& device);
+  std::optional<std::size_t> resolve_value(const dds::ObservedValue& value);
 
   // --- requests (caller holds data_ shared) ---
   Routed route_target(std::string_view target);

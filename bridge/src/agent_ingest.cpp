@@ -125,30 +125,62 @@ const std::string& AgentImpl::model_uuid(const std::string& dds_uuid) const {
   return it == uuid_aliases_.end() ? dds_uuid : it->second;
 }
 
+void AgentImpl::resolve_announced(const dds::ObservedDevice& device) {
+  const std::string& uuid = model_uuid(device.device_uuid);
+  for (const dds::ObservedInterface& itf : device.interfaces) {
+    for (const dds::ObservedDataItem& di : itf.data_items) {
+      const ItemHint hint{itf.id, std::string(core::element_name(itf.type)), di.type, di.sub_type};
+      model_.resolve_item(uuid, di.id, hint);
+    }
+  }
+}
+
+std::optional<std::size_t> AgentImpl::resolve_value(const dds::ObservedValue& value) {
+  const std::string& uuid = model_uuid(value.device_uuid);
+  if (!from_file_) return model_.find_item(uuid, value.data_item_id);
+  ItemHint hint;
+  hint.interface_id = value.interface_id;
+  switch (value.kind) {
+    case dds::ItemKind::Interaction:
+      if (value.service) hint.type = std::string(core::to_string(*value.service));
+      if (value.sub_type) hint.sub_type = std::string(core::to_string(*value.sub_type));
+      break;
+    case dds::ItemKind::InterfaceState: hint.type = "INTERFACE_STATE"; break;
+    case dds::ItemKind::DoorState: hint.type = "DOOR_STATE"; break;
+    case dds::ItemKind::ChuckState: hint.type = "CHUCK_STATE"; break;
+  }
+  for (const dds::ObservedDevice& d : announced_) {
+    if (d.device_uuid != value.device_uuid) continue;
+    for (const dds::ObservedInterface& itf : d.interfaces) {
+      if (itf.id == value.interface_id) hint.interface_element = core::element_name(itf.type);
+    }
+  }
+  return model_.resolve_item(uuid, value.data_item_id, hint);
+}
+
 void AgentImpl::add_device(const dds::ObservedDevice& device) {
   std::size_t before = 0;
   std::size_t after = 0;
   {
     std::unique_lock lock(data_);
     before = buffer_.next_sequence();
-    if (!from_file_) {
-      auto it = std::find_if(announced_.begin(), announced_.end(), [&](const auto& d) {
-        return d.device_uuid == device.device_uuid;
-      });
-      if (it == announced_.end()) {
-        announced_.push_back(device);
-        rebuild_model();
-      } else if (!same_device(*it, device)) {
-        *it = device;
-        rebuild_model();
-      }
+    auto it = std::find_if(announced_.begin(), announced_.end(), [&](const auto& d) {
+      return d.device_uuid == device.device_uuid;
+    });
+    const bool changed = it == announced_.end() || !same_device(*it, device);
+    if (it == announced_.end()) {
+      announced_.push_back(device);
+    } else if (changed) {
+      *it = device;
     }
+    if (changed && !from_file_) rebuild_model();
     auto d = model_.find_device_by_uuid(device.device_uuid);
     if (!d && from_file_ && !device.name.empty()) {
       // The file names the device but knows another uuid: map by name.
       d = model_.find_device(device.name);
       if (d) uuid_aliases_[device.device_uuid] = model_.devices()[*d].uuid;
     }
+    if (d && from_file_ && changed) resolve_announced(device);
     if (d) set_available(*d, now_ns());
     after = buffer_.next_sequence();
   }
@@ -159,7 +191,7 @@ void AgentImpl::add_value(const dds::ObservedValue& value) {
   std::size_t appended = 0;
   {
     std::unique_lock lock(data_);
-    const auto item = model_.find_item(model_uuid(value.device_uuid), value.data_item_id);
+    const auto item = resolve_value(value);
     if (!item) {
       ++stats_.unknown_values;
       stats_.last_unknown = value.device_uuid + "/" + value.data_item_id;

@@ -2,6 +2,7 @@
 // announcement, holding an AVAILABILITY item and an Interfaces component
 // with one *Interface component per announced interface.
 #include <cctype>
+#include <map>
 #include <unordered_set>
 
 #include "mtc/bridge/device_model.hpp"
@@ -34,12 +35,27 @@ class IdMaker {
   std::unordered_set<std::string> used_;
 };
 
+// DDS ids are unique per device only, XML ids per document. An interface or
+// item id that several devices use is qualified with the device id on every
+// one of them, so the result does not depend on announcement order.
+std::map<std::string, int> count_ids(const std::vector<dds::ObservedDevice>& devices) {
+  std::map<std::string, int> uses;
+  for (const dds::ObservedDevice& d : devices) {
+    for (const dds::ObservedInterface& itf : d.interfaces) {
+      ++uses[itf.id];
+      for (const dds::ObservedDataItem& di : itf.data_items) ++uses[di.id];
+    }
+  }
+  return uses;
+}
+
 }  // namespace
 
 DeviceModel DeviceModel::from_announcements(const std::vector<dds::ObservedDevice>& devices,
                                             SchemaVersion version, SlotRegistry& slots) {
   DeviceModel model;
   IdMaker ids;
+  const std::map<std::string, int> uses = count_ids(devices);
   pugi::xml_node root = model.doc_.append_child("Devices");
   for (const dds::ObservedDevice& announced : devices) {
     const std::string& name = announced.name.empty() ? announced.device_uuid : announced.name;
@@ -56,6 +72,10 @@ DeviceModel DeviceModel::from_announcements(const std::vector<dds::ObservedDevic
     avail.append_attribute("type") = "AVAILABILITY";
     model.source_of_xml_id_[avail_id] = kAvailabilityKey;
 
+    auto qualified = [&](const std::string& id) {
+      const auto it = uses.find(id);
+      return it != uses.end() && it->second > 1 ? dev_id + "_" + id : id;
+    };
     pugi::xml_node interfaces;
     for (const dds::ObservedInterface& itf : announced.interfaces) {
       const std::string_view element = core::element_name(itf.type);
@@ -66,14 +86,14 @@ DeviceModel DeviceModel::from_announcements(const std::vector<dds::ObservedDevic
         interfaces = interfaces.append_child("Components");
       }
       pugi::xml_node comp = interfaces.append_child(std::string(element).c_str());
-      comp.append_attribute("id") = ids.make(itf.id, "interface").c_str();
+      comp.append_attribute("id") = ids.make(qualified(itf.id), "interface").c_str();
       if (!itf.name.empty()) comp.append_attribute("name") = itf.name.c_str();
       pugi::xml_node items;
       for (const dds::ObservedDataItem& di : itf.data_items) {
         if (di.type.empty() || di.id.empty()) continue;
         if (!items) items = comp.append_child("DataItems");
         pugi::xml_node node = items.append_child("DataItem");
-        const std::string xml_id = ids.make(di.id, "item");
+        const std::string xml_id = ids.make(qualified(di.id), "item");
         node.append_attribute("category") = di.category.empty() ? "EVENT" : di.category.c_str();
         node.append_attribute("id") = xml_id.c_str();
         if (!di.name.empty()) node.append_attribute("name") = di.name.c_str();

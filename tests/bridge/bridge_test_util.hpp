@@ -2,6 +2,7 @@
 // (same ids as bridge/devices/cell_*.xml), value builders, XPath helpers.
 #pragma once
 
+#include <cctype>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -80,6 +81,69 @@ inline dds::ObservedDevice feeder() {
   d.interfaces = {interface("feeder_bf", core::InterfaceType::BarFeeder,
                             {item("feeder.bf.state", "INTERFACE_STATE"),
                              item("feeder.material_feed.rsp", "MATERIAL_FEED", "RESPONSE")})};
+  return d;
+}
+
+// The demo cell of apps/cell as it announces itself (uuids cell-*, the
+// interface and item ids of mtc::dds::topics): the devices of
+// bridge/devices/cell_*.xml.
+inline std::string cell_item(const std::string& itf, const char* service, const char* role) {
+  return itf + "_" + service + "_" + role;
+}
+
+inline dds::ObservedInterface cell_interface(const std::string& id, core::InterfaceType type,
+                                             std::vector<std::pair<const char*, const char*>> services,
+                                             const char* state_type = nullptr) {
+  std::vector<dds::ObservedDataItem> items{item(id + "_interface_state", "INTERFACE_STATE")};
+  if (state_type) {
+    std::string lower(state_type);
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    items.push_back(item(id + "_" + lower, state_type));
+  }
+  for (const auto& [service, role] : services) {
+    std::string item_type(service);
+    for (char& c : item_type) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    items.push_back(item(cell_item(id, service, role), item_type,
+                         std::string(role) == "request" ? "REQUEST" : "RESPONSE"));
+  }
+  return interface(id, type, items);
+}
+
+inline dds::ObservedDevice cell_machine() {
+  using core::InterfaceType;
+  dds::ObservedDevice d;
+  d.device_uuid = "cell-machine";
+  d.name = "machine";
+  d.interfaces = {
+      cell_interface("material_handler", InterfaceType::MaterialHandler,
+                     {{"material_load", "request"}, {"material_unload", "request"}}),
+      cell_interface("door", InterfaceType::Door, {{"open_door", "response"}, {"close_door", "response"}},
+                     "DOOR_STATE"),
+      cell_interface("chuck", InterfaceType::Chuck,
+                     {{"open_chuck", "response"}, {"close_chuck", "response"}}, "CHUCK_STATE"),
+      cell_interface("bar_feeder", InterfaceType::BarFeeder, {{"material_feed", "request"}})};
+  return d;
+}
+
+inline dds::ObservedDevice cell_robot() {
+  using core::InterfaceType;
+  dds::ObservedDevice d;
+  d.device_uuid = "cell-robot";
+  d.name = "robot";
+  d.interfaces = {
+      cell_interface("material_handler", InterfaceType::MaterialHandler,
+                     {{"material_load", "response"}, {"material_unload", "response"}}),
+      cell_interface("door", InterfaceType::Door, {{"open_door", "request"}, {"close_door", "request"}}),
+      cell_interface("chuck", InterfaceType::Chuck, {{"open_chuck", "request"}, {"close_chuck", "request"}})};
+  return d;
+}
+
+inline dds::ObservedDevice cell_feeder() {
+  dds::ObservedDevice d;
+  d.device_uuid = "cell-feeder";
+  d.name = "feeder";
+  d.interfaces = {cell_interface("bar_feeder", core::InterfaceType::BarFeeder,
+                                 {{"material_feed", "response"}})};
   return d;
 }
 

@@ -137,16 +137,16 @@ TEST(Agent, DevicesFileItemsNeverReceivedStayUnavailable) {
   AgentOptions o = test::cell_options();
   o.devices_file = test::devices_file("cell_1.6.xml");
   auto agent = make_agent(o);
-  agent->add_device(test::mill());
-  agent->add_value(value("mill-0001", "mill.material_load.req", "READY", kT0));
-  agent->add_value(value("mill-0001", "not.in.file", "READY", kT0));
+  agent->add_device(test::cell_machine());
+  agent->add_value(value("cell-machine", "material_handler_material_load_request", "READY", kT0));
+  agent->add_value(value("cell-machine", "not.in.file", "READY", kT0));
   Doc d(get(*agent, "/current").body);
-  EXPECT_EQ(d.text("//MaterialLoad[@dataItemId='mill.material_load.req']"), "READY");
-  EXPECT_EQ(d.text("//Position[@dataItemId='mill_x_pos']"), "UNAVAILABLE");
-  EXPECT_EQ(d.text("//ComponentStream[@componentId='mill_x_pos' or @componentId='mill_x']/@component"),
-            "Linear");
-  EXPECT_EQ(d.count("//Condition/Unavailable[@dataItemId='mill_system'][@type='SYSTEM']"), 1u);
-  EXPECT_EQ(d.text("//DeviceStream[@name='mill']//Availability"), "AVAILABLE");
+  EXPECT_EQ(d.text("//MaterialLoad[@dataItemId='machine_material_handler_material_load_request']"),
+            "READY");
+  EXPECT_EQ(d.text("//Position[@dataItemId='machine_x_pos']"), "UNAVAILABLE");
+  EXPECT_EQ(d.text("//ComponentStream[@componentId='machine_x']/@component"), "Linear");
+  EXPECT_EQ(d.count("//Condition/Unavailable[@dataItemId='machine_system'][@type='SYSTEM']"), 1u);
+  EXPECT_EQ(d.text("//DeviceStream[@name='machine']//Availability"), "AVAILABLE");
   EXPECT_EQ(d.text("//DeviceStream[@name='robot']//Availability"), "UNAVAILABLE");
   EXPECT_EQ(agent->stats().unknown_values, 1u);
   // The file's version is used when none is forced.
@@ -159,15 +159,29 @@ TEST(Agent, DevicesFileDeviceIsFoundByNameWhenTheUuidDiffers) {
   AgentOptions o = test::cell_options();
   o.devices_file = test::devices_file("cell_1.6.xml");
   auto agent = make_agent(o);
-  dds::ObservedDevice robot = test::robot();
-  robot.device_uuid = "robot-serial-7731";  // the file says robot-0001
+  dds::ObservedDevice robot = test::cell_robot();
+  robot.device_uuid = "robot-serial-7731";  // the file says cell-robot
   agent->add_device(robot);
-  agent->add_value(value("robot-serial-7731", "robot.material_load.rsp", "READY", kT0));
+  agent->add_value(value("robot-serial-7731", "material_handler_material_load_response", "READY", kT0));
   Doc d(get(*agent, "/robot/current").body);
   EXPECT_EQ(d.text("//MaterialLoad"), "READY");
   EXPECT_EQ(d.text("//Availability"), "AVAILABLE");
   agent->device_lost("robot-serial-7731");
   EXPECT_EQ(Doc(get(*agent, "/robot/current").body).text("//MaterialLoad"), "UNAVAILABLE");
+  EXPECT_EQ(agent->stats().unknown_values, 0u);
+}
+
+TEST(Agent, DevicesFileItemsAreMatchedByTypeFromValues) {
+  AgentOptions o = test::cell_options();
+  o.devices_file = test::devices_file("cell_1.6.xml");
+  auto agent = make_agent(o);
+  dds::ObservedValue v = value("cell-feeder", "vendor_feed_rsp", "ACTIVE", kT0);
+  v.interface_id = "bar_feeder";
+  v.service = core::Service::MaterialFeed;
+  v.sub_type = core::SubType::Response;
+  agent->add_value(v);
+  Doc d(get(*agent, "/feeder/current").body);
+  EXPECT_EQ(d.text("//MaterialFeed"), "ACTIVE");
   EXPECT_EQ(agent->stats().unknown_values, 0u);
 }
 

@@ -14,25 +14,53 @@ TEST(DeviceModel, LoadsTheSampleCellFiles) {
   for (const char* name : {"cell_1.3.xml", "cell_1.6.xml", "cell_2.0.xml"}) {
     SCOPED_TRACE(name);
     SlotRegistry slots;
-    const DeviceModel m = DeviceModel::from_file(devices_file(name), slots);
+    DeviceModel m = DeviceModel::from_file(devices_file(name), slots);
     ASSERT_EQ(m.devices().size(), 3u);
-    EXPECT_EQ(m.devices()[0].name, "mill");
-    EXPECT_EQ(m.devices()[0].uuid, "mill-0001");
+    EXPECT_EQ(m.devices()[0].name, "machine");
+    EXPECT_EQ(m.devices()[0].uuid, "cell-machine");
     EXPECT_TRUE(m.devices()[0].availability_slot.has_value());
-    const auto door = m.find_item("mill-0001", "mill.open_door.rsp");
+    // File ids are "<device id>_<DDS id>": not found as such, resolved.
+    EXPECT_FALSE(m.find_item("cell-machine", "door_open_door_response").has_value());
+    const auto door = m.resolve_item("cell-machine", "door_open_door_response", {});
     ASSERT_TRUE(door.has_value());
     const DataItemInfo& di = m.data_items()[*door];
+    EXPECT_EQ(di.id, "machine_door_open_door_response");
     EXPECT_EQ(di.element, "OpenDoor");
     EXPECT_EQ(di.sub_type, "RESPONSE");
     EXPECT_EQ(m.components()[di.component].element, "DoorInterface");
-    EXPECT_FALSE(m.find_item("robot-0001", "mill.open_door.rsp").has_value());
-    EXPECT_EQ(m.find_device("robot-0001"), m.find_device("robot"));
+    EXPECT_EQ(m.find_item("cell-machine", "door_open_door_response"), door);  // remembered
+    EXPECT_FALSE(m.resolve_item("cell-robot", "door_open_door_response", {}).has_value());
+    EXPECT_EQ(m.find_device("cell-robot"), m.find_device("robot"));
   }
   SlotRegistry slots;
   EXPECT_EQ(DeviceModel::from_file(devices_file("cell_1.3.xml"), slots).file_version(),
             SchemaVersion::V1_3);
   EXPECT_EQ(DeviceModel::from_file(devices_file("cell_2.0.xml"), slots).file_version(),
             SchemaVersion::V2_0);
+}
+
+TEST(DeviceModel, ResolvesByTypeWhenIdsDoNotMatch) {
+  SlotRegistry slots;
+  DeviceModel m = DeviceModel::from_file(devices_file("cell_1.6.xml"), slots);
+  // A vendor's own ids: matched by type/subType among the interface items.
+  const auto load = m.resolve_item("cell-robot", "xyz_load_rsp", {"mh", "", "MATERIAL_LOAD", "RESPONSE"});
+  ASSERT_TRUE(load.has_value());
+  EXPECT_EQ(m.data_items()[*load].id, "robot_material_handler_material_load_response");
+  // The robot has an INTERFACE_STATE in each of three interfaces: the
+  // interface element (or id) decides.
+  EXPECT_FALSE(m.resolve_item("cell-robot", "s1", {"", "", "INTERFACE_STATE", ""}).has_value());
+  const auto by_element = m.resolve_item("cell-robot", "s2", {"", "ChuckInterface", "INTERFACE_STATE", ""});
+  ASSERT_TRUE(by_element.has_value());
+  EXPECT_EQ(m.data_items()[*by_element].id, "robot_chuck_interface_state");
+  const auto by_id = m.resolve_item("cell-robot", "s3", {"door", "", "INTERFACE_STATE", ""});
+  ASSERT_TRUE(by_id.has_value());
+  EXPECT_EQ(m.data_items()[*by_id].id, "robot_door_interface_state");
+  // An item is given away once; the Door component's DOOR_STATE (not an
+  // interface) is never a candidate.
+  EXPECT_FALSE(m.resolve_item("cell-robot", "s4", {"door", "", "INTERFACE_STATE", ""}).has_value());
+  const auto ds = m.resolve_item("cell-machine", "ds", {"", "", "DOOR_STATE", ""});
+  ASSERT_TRUE(ds.has_value());
+  EXPECT_EQ(m.data_items()[*ds].id, "machine_door_door_state");
 }
 
 TEST(DeviceModel, ElementNamesFollowTheTypes) {
@@ -173,10 +201,10 @@ TEST(DeviceModel, XPathSelectsItemsAndComponents) {
   SlotRegistry slots;
   const DeviceModel m = DeviceModel::from_file(devices_file("cell_1.6.xml"), slots);
   EXPECT_EQ(m.select("//DataItem[@type='DOOR_STATE']", std::nullopt).size(), 2u);
-  EXPECT_EQ(m.select("//DoorInterface", std::nullopt).size(), 4u);
+  EXPECT_EQ(m.select("//DoorInterface", std::nullopt).size(), 4u + 3u);
   EXPECT_EQ(m.select("//Device[@name='robot']//DataItem[@subType='REQUEST']", std::nullopt).size(),
             4u);
-  const auto mill = m.find_device("mill");
+  const auto mill = m.find_device("machine");
   EXPECT_TRUE(m.select("//Device[@name='robot']", mill).empty());
   EXPECT_EQ(m.select("//DataItem/@type", std::nullopt).size(), m.data_items().size());
   EXPECT_THROW(m.select("//DataItem[", std::nullopt), std::invalid_argument);

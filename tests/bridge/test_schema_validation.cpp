@@ -159,8 +159,11 @@ TEST_P(SchemaValidation, SampleCellFileOutputValidates) {
   AgentOptions o = test::cell_options(v);
   o.devices_file = test::devices_file("cell_" + std::string(to_string(v)) + ".xml");
   auto agent = make_agent(o);
-  agent->add_device(test::mill());
-  agent->add_value(value("mill-0001", "mill.open_door.rsp", "READY", kT0));
+  agent->add_device(test::cell_machine());
+  agent->add_device(test::cell_robot());
+  agent->add_value(value("cell-machine", "door_open_door_response", "READY", kT0));
+  agent->add_value(value("cell-robot", "door_open_door_request", "ACTIVE", kT0));
+  agent->add_value(value("cell-machine", "door_door_state", "CLOSED", kT0));
   const Lint streams = xmllint(test::get(*agent, "/current").body, schema("MTConnectStreams", v));
   EXPECT_EQ(streams.exit_code, 0) << streams.output;
   const Lint sample = xmllint(test::get(*agent, "/sample").body, schema("MTConnectStreams", v));

@@ -65,6 +65,15 @@ struct DeviceInfo {
   std::optional<std::uint32_t> availability_slot;  // its AVAILABILITY item
 };
 
+// What a DDS data item is, to find its counterpart in a Devices file whose
+// ids differ from the DDS ones.
+struct ItemHint {
+  std::string interface_id;
+  std::string interface_element;  // e.g. "DoorInterface"; empty when unknown
+  std::string type;               // e.g. MATERIAL_LOAD, INTERFACE_STATE
+  std::string sub_type;           // REQUEST / RESPONSE / empty
+};
+
 class DeviceModel {
  public:
   DeviceModel();
@@ -103,6 +112,14 @@ class DeviceModel {
   std::optional<std::size_t> find_item(const std::string& device_uuid,
                                        const std::string& source_id) const;
   std::optional<std::size_t> find_device_by_uuid(const std::string& uuid) const;
+  // find_item, else the device's item that stands for this DDS item in a
+  // Devices file written with other ids: the DataItem with id
+  // "<device id or name>_<dds id>" (or '.' instead of '_'), else the only
+  // DataItem of the device's *Interface components with the hint's type and
+  // subType (narrowed by interface element, then by interface id). The
+  // answer is remembered; nullopt when there is none or it is ambiguous.
+  std::optional<std::size_t> resolve_item(const std::string& device_uuid,
+                                          const std::string& source_id, const ItemHint& hint);
 
   // Data items (indexes, in model order) selected by an XPath over the
   // Devices tree: a DataItem node selects itself, any other element all
@@ -124,6 +141,7 @@ class DeviceModel {
   std::vector<DataItemInfo> items_;
   std::unordered_map<std::string, std::size_t> item_by_xml_id_;
   std::map<std::pair<std::string, std::string>, std::size_t> item_by_source_;
+  std::vector<bool> claimed_;  // items resolve_item() already gave away
   // Announcement models: XML id -> DDS item id where they differ.
   std::unordered_map<std::string, std::string> source_of_xml_id_;
 };
