@@ -14,5 +14,9 @@ command -v wrk >/dev/null || { echo "run.sh: wrk not installed (apt-get install 
 {
   "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-current" --duration "${MTC_BENCH_SECONDS:-10}"
   "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-stream" --samples "${MTC_BENCH_SAMPLES:-2000}"
+  if [ -x "$bin/mtc-bench-bridge-dds-stream" ]; then
+    fastdds shm clean >/dev/null 2>&1 || true
+    "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-dds-stream" --samples "${MTC_BENCH_SAMPLES:-1000}"
+  fi
 } | tee "$out"
 echo "run.sh: summaries in $out" >&2
