@@ -15,9 +15,11 @@ TEST(Robustness, EveryHandshakeCompletesInOrderDespitePacketLoss) {
   constexpr int kDomain = 72;
   constexpr int kCount = 20;
   // Both sides drop 10 % of the DATA they send; reliable repair must hide it.
+  // The action takes 50 ms, as any real one takes longer than a repair: an
+  // instant one lets COMPLETE replace a lost ACTIVE in the writer's history.
   auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
                                              "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--action-ms", "0", "--drop-percent",
+                                             "robot-1", "--action-ms", "50", "--drop-percent",
                                              "10"});
   auto requester = start_mtc("request", kDomain,
                              {"--device", "robot-1", "--interface", "mh", "--service",

@@ -21,6 +21,10 @@ class LatestValues {
     std::lock_guard<std::mutex> lock(mutex_);
     values_[device + "\n" + item] = value;
   }
+  bool has(const std::string& device, const std::string& item) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return values_.count(device + "\n" + item) != 0;
+  }
   std::string get(const std::string& device, const std::string& item) const {
     std::lock_guard<std::mutex> lock(mutex_);
     auto it = values_.find(device + "\n" + item);
@@ -31,6 +35,20 @@ class LatestValues {
   mutable std::mutex mutex_;
   std::map<std::string, std::string> values_;
 };
+
+// Enough devices announced, and every announced item has a value.
+bool complete(const std::vector<dds::ObservedDevice>& devices, std::size_t expect,
+              const LatestValues& latest) {
+  if (devices.size() < expect) return false;
+  for (const auto& d : devices) {
+    for (const auto& itf : d.interfaces) {
+      for (const auto& di : itf.data_items) {
+        if (!latest.has(d.device_uuid, di.id)) return false;
+      }
+    }
+  }
+  return true;
+}
 
 void print_json(Output& out, const std::vector<dds::ObservedDevice>& devices,
                 const LatestValues& latest) {
@@ -80,14 +98,12 @@ int run_list(const ParsedArgs& args, Context& context) {
     expect = static_cast<std::size_t>(to_int("expect-devices", *e, 1, 100000));
   }
   LatestValues latest;
-  dds::DomainObserverOptions options;
-  options.domain_id = common.domain;
-  options.qos_profile = common.qos_profile;
-  options.device_filter = args.values("device");
+  const dds::DomainObserverOptions options = observer_options(common, args);
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_device = [&](const dds::ObservedDevice&) { context.shutdown.poke(); };
   callbacks.on_value = [&](const dds::ObservedValue& v) {
     latest.set(v.device_uuid, v.data_item_id, v.value);
+    context.shutdown.poke();
   };
   callbacks.on_items_lost = [&](const std::string& dev, const std::vector<std::string>& items) {
     for (const auto& item : items) latest.set(dev, item, "UNAVAILABLE");
@@ -97,7 +113,7 @@ int run_list(const ParsedArgs& args, Context& context) {
   // expected number of devices has announced itself.
   const auto deadline = std::chrono::steady_clock::now() + wait;
   while (!context.shutdown.wait_until(deadline) && std::chrono::steady_clock::now() < deadline) {
-    if (expect > 0 && observer.devices().size() >= expect) break;
+    if (expect > 0 && complete(observer.devices(), expect, latest)) break;
   }
   auto devices = observer.devices();
   std::sort(devices.begin(), devices.end(),
@@ -120,13 +136,14 @@ Command list_command() {
   spec.description =
       "Listens for --wait-ms for device announcements, then prints every device, its\n"
       "interfaces and their data items with the latest value of each. With\n"
-      "--expect-devices N it returns as soon as N devices are known (exit 4 if fewer\n"
-      "appear within --wait-ms).";
+      "--expect-devices N it returns as soon as N devices and a value of each of their\n"
+      "items are known (exit 4 if fewer devices appear within --wait-ms).";
   spec.options = {
       {"wait-ms", "MS", "how long to listen for announcements", "2000"},
       {"expect-devices", "N", "return as soon as N devices are known", ""},
       {"device", "UUID", "only this device (repeatable)", "all devices", false, true},
   };
+  add_observer_options(spec);
   add_common_options(spec);
   spec.examples =
       "  mtc list --domain 5\n"

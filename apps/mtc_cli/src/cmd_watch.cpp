@@ -108,10 +108,7 @@ int run_watch(const ParsedArgs& args, Context& context) {
   if (auto d = args.value("duration")) duration = to_duration("duration", *d);
   WatchPrinter printer(context.out, common.json, args.has("heartbeats"));
 
-  dds::DomainObserverOptions options;
-  options.domain_id = common.domain;
-  options.qos_profile = common.qos_profile;
-  options.device_filter = args.values("device");
+  const dds::DomainObserverOptions options = observer_options(common, args);
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_device = [&](const dds::ObservedDevice& d) { printer.device(d); };
   callbacks.on_value = [&](const dds::ObservedValue& v) { printer.value(v); };
@@ -154,6 +151,7 @@ Command watch_command() {
       {"device", "UUID", "only this device (repeatable)", "all devices", false, true},
       {"heartbeats", "", "also print heartbeat repeats of unchanged values", ""},
   };
+  add_observer_options(spec);
   add_common_options(spec);
   spec.examples =
       "  mtc watch --domain 5\n"

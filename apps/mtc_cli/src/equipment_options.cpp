@@ -61,6 +61,21 @@ std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text) 
   return out;
 }
 
+void add_observer_options(CommandSpec& spec) {
+  spec.options.push_back({"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin",
+                          "loopback"});
+  spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of the watched devices", "100"});
+  spec.options.push_back({"missed-heartbeats", "N", "missed heartbeats before items read UNAVAILABLE", "3"});
+}
+
+ObserverSettings parse_observer_options(const ParsedArgs& args) {
+  ObserverSettings s;
+  if (auto t = args.value("transport")) s.transport = parse_transport(*t);
+  if (auto h = args.value("heartbeat-ms")) s.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
+  if (auto m = args.value("missed-heartbeats")) s.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
+  return s;
+}
+
 void add_equipment_options(CommandSpec& spec, bool many_services) {
   spec.options.push_back({"device", "UUID", "this equipment's device uuid (required)", ""});
   spec.options.push_back({"name", "NAME", "device name announced for probes", "the uuid"});

@@ -39,6 +39,17 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
 void add_fail_options(CommandSpec& spec, bool responder);
 FailPlan parse_fail_options(const ParsedArgs& args, bool responder);
 
+// --transport / --heartbeat-ms / --missed-heartbeats for `watch` and `list`
+// (an observer only needs the transport and the lease it accepts).
+void add_observer_options(CommandSpec& spec);
+// Fills transport and timing of a DomainObserverOptions-like struct.
+struct ObserverSettings {
+  TransportChoice transport = TransportChoice::Loopback;
+  std::chrono::milliseconds heartbeat{100};
+  int missed_heartbeats = 3;
+};
+ObserverSettings parse_observer_options(const ParsedArgs& args);
+
 // "MATERIAL_LOAD" -> Service; "all" or a comma list when many is true.
 std::vector<core::Service> parse_services(const std::string& text, bool many);
 // The interface type a service usually lives on (door services on a door ...).

@@ -12,6 +12,22 @@ std::string_view to_string(dds::ItemKind kind) {
   return "interaction";
 }
 
+dds::DomainObserverOptions observer_options(const CommonOptions& common, const ParsedArgs& args) {
+  const ObserverSettings s = parse_observer_options(args);
+  dds::DomainObserverOptions o;
+  o.domain_id = common.domain;
+  o.qos_profile = common.qos_profile;
+  o.device_filter = args.values("device");
+  switch (s.transport) {
+    case TransportChoice::Loopback: o.transport = qos::Transport::Loopback; break;
+    case TransportChoice::LoopbackUdp: o.transport = qos::Transport::LoopbackUdp; break;
+    case TransportChoice::Builtin: o.transport = qos::Transport::Builtin; break;
+  }
+  o.timing.heartbeat = s.heartbeat;
+  o.timing.missed_heartbeats = s.missed_heartbeats;
+  return o;
+}
+
 std::string item_label(const dds::ObservedValue& v) {
   switch (v.kind) {
     case dds::ItemKind::Interaction: {

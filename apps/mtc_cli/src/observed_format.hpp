@@ -5,12 +5,15 @@
 #include <string>
 #include <string_view>
 
+#include "equipment_options.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "output.hpp"
 
 namespace mtc::cli {
 
 std::string_view to_string(dds::ItemKind kind);
+// Observer options from the common and observer flags.
+dds::DomainObserverOptions observer_options(const CommonOptions& common, const ParsedArgs& args);
 // "MATERIAL_LOAD REQUEST", "INTERFACE_STATE", "DOOR_STATE" ...
 std::string item_label(const dds::ObservedValue& v);
 // JSON array of a device's interfaces with their data items.
