@@ -8,7 +8,10 @@
 
 #include <pugixml.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <charconv>
+#include <condition_variable>
 #include <cstdint>
 #include <map>
 #include <mutex>
@@ -43,6 +46,10 @@ class FakeAgent : public Agent {
     for (auto& callback : to_call) callback();
     return sequence;
   }
+
+  // From now on next_part answers OUT_OF_RANGE, as an agent does for a
+  // stream that fell behind its buffer.
+  void fail_parts() { parts_fail_ = true; }
 
   std::size_t subscriber_count() const {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -94,6 +101,7 @@ class FakeAgent : public Agent {
   }
 
   Response next_part(StreamPlan& plan) noexcept override {
+    if (parts_fail_) return error_document(400, "OUT_OF_RANGE", "fell behind the buffer");
     std::lock_guard<std::mutex> lock(mutex_);
     pugi::xml_document doc;
     auto root = doc.append_child("MTConnectStreams");
@@ -179,6 +187,7 @@ class FakeAgent : public Agent {
   std::vector<Observation> observations_;
   std::map<std::uint64_t, std::function<void()>> subscribers_;
   std::uint64_t next_ = 1;
+  std::atomic<bool> parts_fail_{false};
   std::uint64_t last_subscription_ = 0;
 };
 

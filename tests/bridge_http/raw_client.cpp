@@ -86,6 +86,13 @@ void RawClient::close() {
   fd_ = -1;
 }
 
+void RawClient::reset() {
+  if (fd_ < 0) return;
+  linger option{1, 0};
+  ::setsockopt(fd_, SOL_SOCKET, SO_LINGER, &option, sizeof option);
+  close();
+}
+
 void RawClient::send(std::string_view bytes) {
   if (!try_send(bytes)) throw std::runtime_error("send failed");
 }

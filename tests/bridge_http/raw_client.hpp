@@ -44,6 +44,7 @@ class RawClient {
   bool try_send(std::string_view bytes) noexcept;  // false once the peer is gone
   void shutdown_write();
   void close();
+  void reset();  // close with SO_LINGER 0: the peer gets a RST
 
   // Reads until `done(buffer)` holds, EOF, or the timeout; returns done().
   bool read_until(const std::function<bool(const std::string&)>& done,

@@ -149,6 +149,31 @@ TEST_F(ServerTest, BinaryJunkNeverHurtsOtherClients) {
   EXPECT_EQ(response->status, 200);
 }
 
+TEST_F(ServerTest, UnsupportedHttpVersionGets505) {
+  RawClient client(port());
+  client.send("GET /probe HTTP/2.0\r\nHost: x\r\n\r\n");
+  const auto response = client.read_response();
+  ASSERT_TRUE(response);
+  EXPECT_EQ(response->status, 505);
+  EXPECT_TRUE(client.wait_closed());
+}
+
+TEST_F(ServerTest, ClientsThatResetMidAnswerDoNotHurtTheServer) {
+  for (int i = 0; i < 2000; ++i) agent_->add("item" + std::to_string(i % 500), std::to_string(i));
+  for (int round = 0; round < 50; ++round) {
+    RawClient client(port());
+    client.send(get_request("/sample?from=1") + get_request("/current"));
+    client.reset();  // RST while the server is writing
+  }
+  RawClient streaming(port());
+  streaming.send(get_request("/sample?interval=0&heartbeat=60000"));
+  ASSERT_TRUE(streaming.read_stream_head());
+  streaming.reset();
+  EXPECT_EQ(get("/probe").status, 200);
+  EXPECT_TRUE(eventually([&] { return server_->connection_count() == 0; }));
+  EXPECT_TRUE(eventually([&] { return agent_->subscriber_count() == 0; }));
+}
+
 TEST_F(ServerTest, OversizedHeaderGets431AndClose) {
   RawClient client(port());
   client.try_send("GET /current HTTP/1.1\r\nX-Big: " + std::string(16 * 1024, 'a') + "\r\n\r\n");

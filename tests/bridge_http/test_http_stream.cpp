@@ -148,6 +148,31 @@ TEST_F(StreamTest, ServerStopSendsTheClosingBoundary) {
   EXPECT_EQ(agent_->subscriber_count(), 0U);
 }
 
+TEST_F(StreamTest, AnErrorPartEndsTheStream) {
+  auto client = open("/sample?interval=0&heartbeat=60000");
+  ASSERT_TRUE(client->read_part());
+  agent_->fail_parts();
+  agent_->add("door", "OPEN");
+  const auto part = client->read_part();
+  ASSERT_TRUE(part);
+  const auto doc = parse_xml(part->body);
+  EXPECT_STREQ(doc.select_node("//Error/@errorCode").attribute().value(), "OUT_OF_RANGE");
+  EXPECT_TRUE(client->read_stream_end());
+  EXPECT_TRUE(client->wait_closed());
+  EXPECT_TRUE(eventually([&] { return agent_->subscriber_count() == 0; }));
+}
+
+TEST_F(StreamTest, HeadOfAStreamAnswersHeadersOnly) {
+  RawClient client(port());
+  client.send("HEAD /sample?interval=0 HTTP/1.1\r\nHost: x\r\n\r\n");
+  const auto head = client.read_response(5s, true);
+  ASSERT_TRUE(head);
+  EXPECT_EQ(head->status, 200);
+  EXPECT_TRUE(client.wait_closed());
+  EXPECT_TRUE(client.buffer().empty());  // no part, no chunk
+  EXPECT_EQ(agent_->subscriber_count(), 0U);
+}
+
 TEST_F(StreamTest, ManyStreamsEachSeeEveryValue) {
   std::vector<std::unique_ptr<RawClient>> clients;
   for (int i = 0; i < 16; ++i) {

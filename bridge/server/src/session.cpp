@@ -47,6 +47,17 @@ bool has_query_parameter(std::string_view target, std::string_view name) {
   return false;
 }
 
+// True when the request line in `data` ends in a well-formed "HTTP/d.d",
+// i.e. the client speaks a version we do not (Beast accepts only 1.0/1.1).
+bool names_other_http_version(std::string_view data) {
+  const auto end = data.find("\r\n");
+  if (end == std::string_view::npos || end < 8) return false;
+  const auto version = data.substr(end - 8, 8);
+  auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  return version.substr(0, 5) == "HTTP/" && digit(version[5]) && version[6] == '.' &&
+         digit(version[7]);
+}
+
 }  // namespace
 
 struct Session::Stream {
@@ -129,6 +140,10 @@ void Session::on_header(beast::error_code ec) {
     close();  // client went away or stalled: nobody to answer
   } else if (ec == http::error::header_limit || ec == http::error::buffer_overflow) {
     answer_error(431, "INVALID_REQUEST", "request line and headers exceed the size limit");
+  } else if (ec == http::error::bad_version &&
+             names_other_http_version(
+                 {static_cast<const char*>(buffer_.data().data()), buffer_.size()})) {
+    answer_error(505, "INVALID_REQUEST", "only HTTP/1.0 and HTTP/1.1 are served");
   } else if (ec.category() == http::make_error_code(http::error::bad_target).category()) {
     answer_error(400, "INVALID_REQUEST", "malformed HTTP request: " + ec.message());
   } else {
@@ -138,11 +153,7 @@ void Session::on_header(beast::error_code ec) {
 
 void Session::handle_request() {
   const auto& request = parser_->get();
-  version_ = request.version() == 10 ? 10 : 11;
-  if (request.version() != 10 && request.version() != 11) {
-    answer_error(505, "INVALID_REQUEST", "only HTTP/1.0 and HTTP/1.1 are served");
-    return;
-  }
+  version_ = request.version() == 10 ? 10 : 11;  // the parser admits no other
   const bool head_only = request.method() == http::verb::head;
   const std::string_view method = head_only ? std::string_view("GET")
                                             : std::string_view(request.method_string().data(),
