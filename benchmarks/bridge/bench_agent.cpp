@@ -96,6 +96,16 @@ void BM_Sample100(benchmark::State& state) {
 }
 BENCHMARK(BM_Sample100);
 
+// /current?at= in the middle of a full 131072-entry buffer: checkpoint
+// lookup plus at most 1024 replayed observations.
+void BM_CurrentAtMidBuffer(benchmark::State& state) {
+  auto agent = make_cell();
+  for (int i = 0; i < 200000; ++i) agent->add_value(value(i));
+  const std::string target = "/current?at=" + std::to_string(agent->next_sequence() - 65000);
+  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", target));
+}
+BENCHMARK(BM_CurrentAtMidBuffer);
+
 void BM_ProbeCached(benchmark::State& state) {
   auto agent = make_cell();
   for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/probe"));

@@ -30,6 +30,27 @@ bool is_request(std::string_view s) {
 
 RequestError out_of_range(std::string text) { return {"OUT_OF_RANGE", 400, std::move(text)}; }
 
+// Parameters that do not belong together or to this request, and the
+// ranges that do not depend on the buffer.
+void check_combination(const Query& q, bool sample) {
+  if (sample && q.at) throw RequestError{"INVALID_REQUEST", 400, "'at' applies to current only"};
+  if (!sample && (q.from || q.to || q.count)) {
+    throw RequestError{"INVALID_REQUEST", 400, "'from', 'to' and 'count' apply to sample only"};
+  }
+  if (q.at && q.interval) {
+    throw RequestError{"INVALID_REQUEST", 400, "'at' cannot be used with 'interval'"};
+  }
+  if (q.to && q.interval) {
+    throw RequestError{"INVALID_REQUEST", 400, "'to' cannot be used with 'interval'"};
+  }
+  if (q.interval && (*q.interval < 0 || *q.interval > kMaxMillis)) {
+    throw out_of_range("'interval' must be between 0 and " + std::to_string(kMaxMillis));
+  }
+  if (q.heartbeat && (*q.heartbeat < 1 || *q.heartbeat > kMaxMillis)) {
+    throw out_of_range("'heartbeat' must be between 1 and " + std::to_string(kMaxMillis));
+  }
+}
+
 }  // namespace
 
 HeaderInfo AgentImpl::header() const {
@@ -166,22 +187,7 @@ Query AgentImpl::parse_query(const Target& t, std::optional<std::size_t> device,
     }
     *slot = v;
   }
-  if (sample && q.at) throw RequestError{"INVALID_REQUEST", 400, "'at' applies to current only"};
-  if (!sample && (q.from || q.to || q.count)) {
-    throw RequestError{"INVALID_REQUEST", 400, "'from', 'to' and 'count' apply to sample only"};
-  }
-  if (q.at && q.interval) {
-    throw RequestError{"INVALID_REQUEST", 400, "'at' cannot be used with 'interval'"};
-  }
-  if (q.to && q.interval) {
-    throw RequestError{"INVALID_REQUEST", 400, "'to' cannot be used with 'interval'"};
-  }
-  if (q.interval && (*q.interval < 0 || *q.interval > kMaxMillis)) {
-    throw out_of_range("'interval' must be between 0 and " + std::to_string(kMaxMillis));
-  }
-  if (q.heartbeat && (*q.heartbeat < 1 || *q.heartbeat > kMaxMillis)) {
-    throw out_of_range("'heartbeat' must be between 1 and " + std::to_string(kMaxMillis));
-  }
+  check_combination(q, sample);
   return q;
 }
 
