@@ -1,5 +1,9 @@
 #include "session.hpp"
 
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+
 #include <array>
 #include <utility>
 
@@ -81,6 +85,13 @@ Session::Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::
     : shared_(std::move(shared)), id_(id), stream_(std::move(socket)) {
   beast::error_code ec;
   stream_.socket().set_option(tcp::no_delay(true), ec);  // best effort
+  // A peer that vanished without FIN or RST (cable pulled, host down) would
+  // keep a stream's unacknowledged parts retransmitting for ~15 minutes;
+  // the kernel gives up after the write timeout instead, which also ends
+  // the pending read and so the session.
+  const auto user_timeout = static_cast<unsigned>(shared_->options.write_timeout.count());
+  ::setsockopt(stream_.socket().native_handle(), IPPROTO_TCP, TCP_USER_TIMEOUT, &user_timeout,
+               sizeof user_timeout);
 }
 
 Session::~Session() {
