@@ -60,8 +60,14 @@ ChildProcess::ChildProcess(std::vector<std::string> argv) : argv_(std::move(argv
 
 ChildProcess::~ChildProcess() {
   if (running()) {
-    kill(pid_, SIGKILL);
-    reap(true);
+    // Ask first: a clean exit deletes the child's shared-memory segments,
+    // SIGKILL would leave them in /dev/shm. SIGCONT in case it is stopped.
+    kill(pid_, SIGTERM);
+    kill(pid_, SIGCONT);
+    if (!wait_exit(milliseconds(5000))) {
+      kill(pid_, SIGKILL);
+      reap(true);
+    }
   }
   for (int fd : {out_fd_, err_fd_, pidfd_}) {
     if (fd >= 0) close(fd);

@@ -1,9 +1,9 @@
 // A child process for cross-process tests: started with fork/exec, its
 // stdout and stderr captured through pipes, read line by line with poll()
 // against deadlines. Tests synchronise on the lines a child prints and on its
-// exit status, never on sleeps. A child that outlives its ChildProcess (or the
-// test process itself) is killed: SIGKILL in the destructor, and
-// PR_SET_PDEATHSIG in case the test process dies first.
+// exit status, never on sleeps. A child that outlives its ChildProcess is
+// stopped in the destructor (SIGTERM, then SIGKILL if it does not exit within
+// 5 s), and PR_SET_PDEATHSIG kills it if the test process dies first.
 #pragma once
 
 #include <sys/types.h>

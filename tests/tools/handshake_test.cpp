@@ -108,6 +108,19 @@ TEST(Handshake, NotReadyResponderIsReportedWithItsOwnExitCode) {
   EXPECT_EQ(std::count(steps.begin(), steps.end(), "response:NOT_READY"), 1) << requester->transcript();
 }
 
+TEST(Handshake, ResponderWithCountExitsAfterThatManyHandshakes) {
+  constexpr int kDomain = 78;
+  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "cell",
+                                             "--service", "PART_CHANGE", "--counterpart",
+                                             "robot-1", "--action-ms", "0", "--count", "2"});
+  auto requester = start_mtc("request", kDomain, requester_args("PART_CHANGE", {"--count", "2"}));
+  ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 0) << requester->transcript();
+  ASSERT_EQ(responder->wait_exit(kHandshakeTimeout), 0) << responder->transcript();
+  const auto stopped = responder->wait_for_line({"\"event\":\"stopped\""}, milliseconds(0));
+  ASSERT_TRUE(stopped) << responder->transcript();
+  EXPECT_EQ(json_field(*stopped, "handshakes"), "2");
+}
+
 TEST(Handshake, AbsentResponderTimesOut) {
   constexpr int kDomain = 77;
   auto requester = start_mtc("request", kDomain,

@@ -10,6 +10,7 @@
 //   69 SIGKILL responder      70 responder restarted    71 SIGSTOP requester
 //   72 packet loss            73 watch                  74 list
 //   75 signals                76 fail rate + seed       77 request timeout
+//   78 respond --count        79 free (manual experiments)
 #pragma once
 
 #include <gtest/gtest.h>

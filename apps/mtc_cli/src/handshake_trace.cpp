@@ -60,9 +60,17 @@ void HandshakeTrace::transition(bool own, const LinkEvent& e) {
     return;
   }
   char buf[160];
-  std::snprintf(buf, sizeof buf, "  #%-4llu +%10.3f ms  %-8s -> %-10s", static_cast<unsigned long long>(n_), t,
-                side(own).c_str(), state.c_str());
+  if (!active()) {
+    std::snprintf(buf, sizeof buf, "  idle                     %-8s -> %-10s", side(own).c_str(), state.c_str());
+  } else if (waiting_) {
+    std::snprintf(buf, sizeof buf, "  #%-4llu (waiting)          %-8s -> %-10s", static_cast<unsigned long long>(n_),
+                  side(own).c_str(), state.c_str());
+  } else {
+    std::snprintf(buf, sizeof buf, "  #%-4llu +%10.3f ms      %-8s -> %-10s", static_cast<unsigned long long>(n_), t,
+                  side(own).c_str(), state.c_str());
+  }
   std::string text = buf;
+  text += "  " + std::string(core::to_string(e.service));
   if (!own) text += "  (latency " + format_ms(latency) + ")";
   out_.line(text);
 }

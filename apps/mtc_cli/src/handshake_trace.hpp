@@ -26,7 +26,12 @@ class HandshakeTrace {
   void begin(std::uint64_t n, core::Service service);
   // Restarts the clock (t = 0) without a new number: the requester measures
   // from the moment it issues the request, not from when it began waiting.
-  void restart_clock() { start_ = std::chrono::steady_clock::now(); }
+  void restart_clock() {
+    start_ = std::chrono::steady_clock::now();
+    waiting_ = false;
+  }
+  // Requester: between begin() and restart_clock() it waits for READY.
+  void set_waiting() { waiting_ = true; }
   std::uint64_t number() const { return n_; }
   core::Service service() const { return service_; }
   bool active() const { return n_ != 0; }
@@ -54,6 +59,7 @@ class HandshakeTrace {
   std::uint64_t n_ = 0;
   core::Service service_ = core::Service::MaterialLoad;
   std::chrono::steady_clock::time_point start_{};
+  bool waiting_ = false;
   std::vector<Step> steps_;
 };
 

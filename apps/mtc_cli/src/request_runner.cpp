@@ -158,6 +158,7 @@ int RequestRunner::run() {
   for (std::uint64_t n = 1; n <= config_.count; ++n) {
     const auto deadline = Clock::now() + config_.timeout;
     trace_.begin(n, service_);
+    trace_.set_waiting();
     last_reason_ = core::Reason::None;
     Result result = wait_until_ready(deadline);
     std::string reason;
