@@ -74,7 +74,8 @@ int main(int argc, char** argv) try {
   const int duration = std::stoi(arg(argc, argv, "--duration", "10"));
   const int connections = std::stoi(arg(argc, argv, "--connections", "8"));
   const int wrk_threads = std::stoi(arg(argc, argv, "--wrk-threads", "1"));
-  const unsigned io_threads = static_cast<unsigned>(std::stoi(arg(argc, argv, "--io-threads", "1")));
+  const unsigned io_threads =
+      static_cast<unsigned>(std::stoi(arg(argc, argv, "--io-threads", "1")));
   const int feed_hz = std::stoi(arg(argc, argv, "--feed-hz", "100"));
   const std::string target = arg(argc, argv, "--target", "/current");
   const std::string devices = arg(argc, argv, "--devices", MTC_DEMO_DEVICES);
@@ -107,14 +108,14 @@ int main(int argc, char** argv) try {
             << "\",\"wrk_threads\":" << wrk_threads << ",\"connections\":" << connections
             << ",\"duration_s\":" << duration << ",\"io_threads\":" << io_threads
             << ",\"feed_hz\":" << feed_hz << ",\"values_fed\":" << fed.load()
-            << ",\"data_items\":" << cell.items().size()
-            << ",\"requests\":" << r.requests << ",\"requests_per_second\":" << r.requests_per_second
+            << ",\"data_items\":" << cell.items().size() << ",\"requests\":" << r.requests
+            << ",\"requests_per_second\":" << r.requests_per_second
             << ",\"latency_us\":{\"p50\":" << r.p50_us << ",\"p75\":" << r.p75_us
             << ",\"p90\":" << r.p90_us << ",\"p99\":" << r.p99_us << "},\"non_2xx\":" << r.non_2xx
             << ",\"socket_errors\":\"" << r.socket_errors << "\",\"bar\":{\"min_rps\":20000,"
             << "\"max_p99_us\":1000},\"meets_bar\":"
             << ((r.requests_per_second >= 20000 && r.p99_us < 1000 && r.non_2xx == 0) ? "true"
-                                                                                       : "false")
+                                                                                      : "false")
             << "}" << std::endl;
   return 0;
 } catch (const std::exception& error) {

@@ -70,7 +70,8 @@ int main(int argc, char** argv) try {
 
   StreamClient client(server.port());
   client.expect(">READY<");  // the bridge has seen the device once this arrives
-  if (!client.wait(std::chrono::seconds(20))) throw std::runtime_error("device never reached the bridge");
+  if (!client.wait(std::chrono::seconds(20)))
+    throw std::runtime_error("device never reached the bridge");
 
   std::mt19937 random(11);
   std::uniform_int_distribution<int> gap_us(500, 1500);

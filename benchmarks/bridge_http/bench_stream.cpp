@@ -19,7 +19,8 @@ using namespace mtc::bridge::bench;
 int main(int argc, char** argv) try {
   const int samples = std::stoi(arg(argc, argv, "--samples", "2000"));
   const int client_count = std::stoi(arg(argc, argv, "--clients", "4"));
-  const unsigned io_threads = static_cast<unsigned>(std::stoi(arg(argc, argv, "--io-threads", "1")));
+  const unsigned io_threads =
+      static_cast<unsigned>(std::stoi(arg(argc, argv, "--io-threads", "1")));
   const std::string devices = arg(argc, argv, "--devices", MTC_DEMO_DEVICES);
 
   DemoCell cell(devices, io_threads);
@@ -63,8 +64,7 @@ int main(int argc, char** argv) try {
               << "}";
   };
   std::cout << "{\"benchmark\":\"bridge_http_stream_latency\",\"clients\":" << client_count
-            << ",\"io_threads\":" << io_threads << ",\"lost\":" << lost
-            << ",\"first_client_us\":";
+            << ",\"io_threads\":" << io_threads << ",\"lost\":" << lost << ",\"first_client_us\":";
   print(one);
   std::cout << ",\"all_clients_us\":";
   print(all);

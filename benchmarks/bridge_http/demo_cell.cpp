@@ -1,8 +1,7 @@
 #include "demo_cell.hpp"
 
-#include <pugixml.hpp>
-
 #include <algorithm>
+#include <pugixml.hpp>
 #include <stdexcept>
 
 namespace mtc::bridge::bench {
@@ -41,7 +40,8 @@ DemoCell::DemoCell(const std::string& devices_file, unsigned io_threads) {
       items_.push_back({uuid, item.node().attribute("id").value(), std::move(values)});
     }
   }
-  if (items_.empty()) throw std::runtime_error("demo cell: no Part 5 data items in " + devices_file);
+  if (items_.empty())
+    throw std::runtime_error("demo cell: no Part 5 data items in " + devices_file);
   cursor_.assign(items_.size(), 0);
   for (std::size_t i = 0; i < items_.size(); ++i) feed_next(i);
 
@@ -53,7 +53,9 @@ DemoCell::DemoCell(const std::string& devices_file, unsigned io_threads) {
   server_->start();
 }
 
-DemoCell::~DemoCell() { server_->stop(); }
+DemoCell::~DemoCell() {
+  server_->stop();
+}
 
 void DemoCell::feed_next(std::size_t index) {
   const auto i = index % items_.size();

@@ -89,7 +89,8 @@ std::optional<std::string> ChildProcess::wait_for_line(const std::string& needle
       scanned_ = end + 1;
       if (line.find(needle) != std::string::npos) return line;
     }
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
     if (left.count() <= 0 || (out_fd_ < 0 && err_fd_ < 0)) return std::nullopt;
     drain(std::min(left, std::chrono::milliseconds(100)));
   }

@@ -6,8 +6,6 @@
 // the server, not the XML, is under test.
 #pragma once
 
-#include <pugixml.hpp>
-
 #include <algorithm>
 #include <atomic>
 #include <charconv>
@@ -15,6 +13,7 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <pugixml.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -74,10 +73,11 @@ class FakeAgent : public Agent {
     }
     const auto query_at = target.find('?');
     const auto path = target.substr(0, query_at);
-    const auto query = parse_query(query_at == std::string_view::npos ? std::string_view()
-                                                                      : target.substr(query_at + 1));
+    const auto query = parse_query(
+        query_at == std::string_view::npos ? std::string_view() : target.substr(query_at + 1));
     if (path == "/probe") {
-      routed.response = Response{200, "text/xml", "<MTConnectDevices><Devices/></MTConnectDevices>"};
+      routed.response =
+          Response{200, "text/xml", "<MTConnectDevices><Devices/></MTConnectDevices>"};
     } else if (path == "/current" || path == "/sample") {
       const bool sample = path == "/sample";
       if (query.count("interval") != 0U) {

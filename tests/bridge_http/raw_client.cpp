@@ -79,7 +79,9 @@ RawClient::RawClient(std::uint16_t port) {
   ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
 }
 
-RawClient::~RawClient() { close(); }
+RawClient::~RawClient() {
+  close();
+}
 
 void RawClient::close() {
   if (fd_ >= 0) ::close(fd_);
@@ -107,7 +109,9 @@ bool RawClient::try_send(std::string_view bytes) noexcept {
   return true;
 }
 
-void RawClient::shutdown_write() { ::shutdown(fd_, SHUT_WR); }
+void RawClient::shutdown_write() {
+  ::shutdown(fd_, SHUT_WR);
+}
 
 bool RawClient::fill(Clock::time_point deadline) {
   if (eof_ || fd_ < 0) return false;

@@ -40,7 +40,7 @@ class RawClient {
   RawClient(const RawClient&) = delete;
   RawClient& operator=(const RawClient&) = delete;
 
-  void send(std::string_view bytes);  // all of them, or throws
+  void send(std::string_view bytes);               // all of them, or throws
   bool try_send(std::string_view bytes) noexcept;  // false once the peer is gone
   void shutdown_write();
   void close();
@@ -72,8 +72,8 @@ class RawClient {
 
   int fd_ = -1;
   bool eof_ = false;
-  std::string buffer_;    // raw bytes received, not yet consumed
-  std::string body_;      // de-chunked stream body, not yet consumed
+  std::string buffer_;  // raw bytes received, not yet consumed
+  std::string body_;    // de-chunked stream body, not yet consumed
   bool last_chunk_ = false;
   std::string boundary_;
 };

@@ -2,9 +2,9 @@
 #pragma once
 
 #include <gtest/gtest.h>
-#include <pugixml.hpp>
 
 #include <memory>
+#include <pugixml.hpp>
 #include <thread>
 
 #include "fake_agent.hpp"

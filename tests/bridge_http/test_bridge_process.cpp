@@ -2,12 +2,12 @@
 // and end to end from a DDS writer to /current.
 // DDS domains: 80 end-to-end, 81 process lifecycle (see CMakeLists.txt).
 #include <gtest/gtest.h>
-#include <pugixml.hpp>
 
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <pugixml.hpp>
 #include <thread>
 
 #include "child_process.hpp"
@@ -98,10 +98,10 @@ TEST(BridgeProcess, ConfigurationErrorsExitTwoNamingTheProblem) {
   EXPECT_EQ(exit_code_of({"--io-threads", "zero"}, &err), 2);
   EXPECT_NE(err.find("--io-threads: IoThreads must be an integer"), std::string::npos) << err;
 
-  EXPECT_EQ(exit_code_of({"--devices", "/nonexistent/Devices.xml", "--port", "0",
-                          "--domain-ids", "81"},
-                         &err),
-            2);
+  EXPECT_EQ(
+      exit_code_of({"--devices", "/nonexistent/Devices.xml", "--port", "0", "--domain-ids", "81"},
+                   &err),
+      2);
   EXPECT_NE(err.find("Devices file"), std::string::npos) << err;
   std::remove(bad.c_str());
 }
@@ -151,8 +151,8 @@ TEST(BridgeEndToEnd, TransitionAndLivelinessLossReachCurrent) {
   robot.start();
 
   const std::string item = "mh1_material_load_response";
-  EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "READY"; },
-                         std::chrono::seconds(15)))
+  EXPECT_TRUE(
+      eventually([&] { return bridge.current_value(item) == "READY"; }, std::chrono::seconds(15)))
       << "last /current value: '" << bridge.current_value(item) << "'";
 
   load.set_ready(false).get();

@@ -111,9 +111,9 @@ TEST_F(ServerTest, HeadAnswersTheHeadersOfGet) {
 }
 
 TEST_F(ServerTest, GarbageRequestLineGets400ErrorDocumentThenClose) {
-  for (const std::string junk : {"HELLO\r\n\r\n", "GET\r\n\r\n", "GET / HTTP/9\r\n\r\n",
-                                 "GET / HTTP/1.1\r\nBad Header\r\n\r\n",
-                                 "G\x01T / HTTP/1.1\r\n\r\n"}) {
+  for (const std::string junk :
+       {"HELLO\r\n\r\n", "GET\r\n\r\n", "GET / HTTP/9\r\n\r\n",
+        "GET / HTTP/1.1\r\nBad Header\r\n\r\n", "G\x01T / HTTP/1.1\r\n\r\n"}) {
     RawClient client(port());
     client.send(junk);
     const auto response = client.read_response();
@@ -199,7 +199,8 @@ TEST_F(ServerTest, RequestBodiesAreRefused) {
   EXPECT_TRUE(client.wait_closed());
 
   RawClient chunked(port());
-  chunked.send("POST /current HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n");
+  chunked.send(
+      "POST /current HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n");
   response = chunked.read_response();
   ASSERT_TRUE(response);
   EXPECT_EQ(response->status, 405);  // the agent's UNSUPPORTED, then close
@@ -212,7 +213,7 @@ TEST_F(ServerTest, StalledHeaderIsCutOffWhileOthersAreServed) {
   restart(options);
   RawClient slow(port());
   slow.send("GET /current HTTP/1.1\r\nHost: x\r\n");  // never finishes
-  RawClient silent(port());                          // never sends anything
+  RawClient silent(port());                           // never sends anything
   const auto started = std::chrono::steady_clock::now();
   EXPECT_EQ(get("/probe").status, 200);  // not held up by either
   EXPECT_TRUE(slow.wait_closed(5s));

@@ -1,7 +1,5 @@
 #include "mtc/bridge/bridge_config.hpp"
 
-#include "mtc/bridge/schema_version.hpp"
-
 #include <arpa/inet.h>
 
 #include <algorithm>
@@ -10,6 +8,8 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include "mtc/bridge/schema_version.hpp"
 
 namespace mtc::bridge {
 namespace {
@@ -160,8 +160,8 @@ void set_missed_heartbeats(BridgeConfig& c, std::string_view v, const std::strin
 
 void set_transport(BridgeConfig& c, std::string_view v, const std::string& origin) {
   if (v != "loopback" && v != "loopback-udp" && v != "network") {
-    fail(origin, "Transport must be loopback, loopback-udp or network, not '" + std::string(v) +
-                     "'");
+    fail(origin,
+         "Transport must be loopback, loopback-udp or network, not '" + std::string(v) + "'");
   }
   c.transport = std::string(v);
 }
@@ -193,8 +193,8 @@ constexpr std::array<Setting, 19> kSettings{{
     {"Port", "--port", "HTTP port, 0 = any free port (default 5000)", set_port},
     {"BufferSize", "--buffer-size", "observation buffer holds 2^n entries (default 17)",
      set_buffer_size},
-    {"SchemaVersion", "--schema-version", "1.3, 1.6, 1.8 or 2.0 (default: the Devices file's, else 1.6)",
-     set_schema_version},
+    {"SchemaVersion", "--schema-version",
+     "1.3, 1.6, 1.8 or 2.0 (default: the Devices file's, else 1.6)", set_schema_version},
     {"Sender", "--sender", "Header sender name (default mtc-bridge)", set_sender},
     {"DomainIds", "--domain-ids", "DDS domain ids to observe, e.g. 0,1 (default 0)",
      set_domain_ids},
@@ -209,8 +209,8 @@ constexpr std::array<Setting, 19> kSettings{{
     {"MissedHeartbeats", "--missed-heartbeats",
      "heartbeats missed before a device's items read UNAVAILABLE (default 3)",
      set_missed_heartbeats},
-    {"Transport", "--transport", "DDS transport: loopback, loopback-udp or network (default loopback)",
-     set_transport},
+    {"Transport", "--transport",
+     "DDS transport: loopback, loopback-udp or network (default loopback)", set_transport},
     {"StreamHeartbeatMs", "--stream-heartbeat-ms",
      "HTTP stream heartbeat when a request names none (default 10000)", set_stream_heartbeat},
     {"MaxConnections", "--max-connections", "open connections; more get 503 (default 256)",
@@ -219,8 +219,8 @@ constexpr std::array<Setting, 19> kSettings{{
      set_header_timeout},
     {"IdleTimeoutMs", "--idle-timeout-ms", "keep-alive idle time before closing (default 30000)",
      set_idle_timeout},
-    {"WriteTimeoutMs", "--write-timeout-ms", "time a client may take to read a write (default 30000)",
-     set_write_timeout},
+    {"WriteTimeoutMs", "--write-timeout-ms",
+     "time a client may take to read a write (default 30000)", set_write_timeout},
 }};
 
 const Setting* find_key(std::string_view key) {
@@ -267,7 +267,8 @@ void parse_config_text(BridgeConfig& config, std::string_view text, std::string_
       fail(where, "blocks ('Name { ... }') are not supported by mtc-bridge");
     }
     const auto eq = line.find('=');
-    if (eq == std::string_view::npos) fail(where, "expected 'Key = Value', got '" + std::string(line) + "'");
+    if (eq == std::string_view::npos)
+      fail(where, "expected 'Key = Value', got '" + std::string(line) + "'");
     const auto key = trim(line.substr(0, eq));
     auto value = trim(line.substr(eq + 1));
     if (key.empty()) fail(where, "missing key before '='");

@@ -1,17 +1,16 @@
 #include "mtc/bridge/http_server.hpp"
 
-#include <optional>
-#include <stdexcept>
-#include <system_error>
-#include <thread>
-#include <vector>
-
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
+#include <optional>
+#include <stdexcept>
+#include <system_error>
+#include <thread>
+#include <vector>
 
 #include "session.hpp"
 
@@ -57,8 +56,8 @@ void HttpServer::Impl::listen() {
   const tcp::endpoint endpoint(address, options.port);
   auto check = [&](const char* what) {
     if (ec) {
-      throw std::system_error(ec, std::string(what) + " " + options.bind_address + ":" +
-                                      std::to_string(options.port));
+      throw std::system_error(
+          ec, std::string(what) + " " + options.bind_address + ":" + std::to_string(options.port));
     }
   };
   acceptor.open(endpoint.protocol(), ec);
@@ -118,7 +117,9 @@ HttpServer::HttpServer(std::shared_ptr<Agent> agent, ServerOptions options)
   impl_->listen();
 }
 
-HttpServer::~HttpServer() { stop(); }
+HttpServer::~HttpServer() {
+  stop();
+}
 
 void HttpServer::start() {
   if (impl_->started) return;
@@ -162,7 +163,9 @@ void HttpServer::stop() {
   }
 }
 
-std::uint16_t HttpServer::port() const noexcept { return impl_->port; }
+std::uint16_t HttpServer::port() const noexcept {
+  return impl_->port;
+}
 
 const std::string& HttpServer::bind_address() const noexcept {
   return impl_->shared->options.bind_address;

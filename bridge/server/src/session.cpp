@@ -5,12 +5,11 @@
 #include <sys/socket.h>
 
 #include <array>
-#include <utility>
-
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
 #include <boost/beast/http/error.hpp>
 #include <boost/beast/http/read.hpp>
+#include <utility>
 
 #include "wire.hpp"
 
@@ -74,8 +73,8 @@ struct Session::Stream {
   std::uint64_t subscription = 0;
   bool subscribed = false;
   bool writing = false;
-  bool ending = false;        // shutdown asked for the final boundary
-  bool ended = false;         // the final boundary is on its way
+  bool ending = false;            // shutdown asked for the final boundary
+  bool ended = false;             // the final boundary is on its way
   bool stop_after_write = false;  // the agent answered an error part
   std::atomic<bool> wake_pending{false};
   std::array<char, 256> sink{};  // client bytes while streaming, discarded
@@ -119,26 +118,24 @@ void Session::wait_for_request() {
   }
   const auto& options = shared_->options;
   stream_.expires_after(first_request_ ? options.header_timeout : options.idle_timeout);
-  stream_.async_read_some(
-      buffer_.prepare(kReadChunk),
-      [self = shared_from_this()](beast::error_code ec, std::size_t bytes) {
-        if (ec) {
-          self->close();
-          return;
-        }
-        self->buffer_.commit(bytes);
-        self->read_header();
-      });
+  stream_.async_read_some(buffer_.prepare(kReadChunk),
+                          [self = shared_from_this()](beast::error_code ec, std::size_t bytes) {
+                            if (ec) {
+                              self->close();
+                              return;
+                            }
+                            self->buffer_.commit(bytes);
+                            self->read_header();
+                          });
 }
 
 void Session::read_header() {
   parser_.emplace();
   parser_->header_limit(static_cast<std::uint32_t>(shared_->options.header_limit));
   stream_.expires_after(shared_->options.header_timeout);
-  http::async_read_header(stream_, buffer_, *parser_,
-                          [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                            self->on_header(ec);
-                          });
+  http::async_read_header(
+      stream_, buffer_, *parser_,
+      [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_header(ec); });
 }
 
 void Session::on_header(beast::error_code ec) {
@@ -166,9 +163,9 @@ void Session::handle_request() {
   const auto& request = parser_->get();
   version_ = request.version() == 10 ? 10 : 11;  // the parser admits no other
   const bool head_only = request.method() == http::verb::head;
-  const std::string_view method = head_only ? std::string_view("GET")
-                                            : std::string_view(request.method_string().data(),
-                                                               request.method_string().size());
+  const std::string_view method =
+      head_only ? std::string_view("GET")
+                : std::string_view(request.method_string().data(), request.method_string().size());
   const std::string_view target(request.target().data(), request.target().size());
   bool keep_alive = request.keep_alive();
 
@@ -400,9 +397,8 @@ void Session::write_part() {
 
   state.writing = true;
   stream_.expires_after(shared_->options.write_timeout);  // read side stays unbounded
-  const std::array<asio::const_buffer, 3> buffers{
-      asio::buffer(head_), asio::buffer(body_),
-      asio::buffer(kPartTail.data(), kPartTail.size())};
+  const std::array<asio::const_buffer, 3> buffers{asio::buffer(head_), asio::buffer(body_),
+                                                  asio::buffer(kPartTail.data(), kPartTail.size())};
   asio::async_write(stream_, buffers,
                     [self = shared_from_this()](beast::error_code ec, std::size_t) {
                       self->on_part_written(ec, false);

@@ -1,14 +1,13 @@
 #include "wire.hpp"
 
 #include <array>
+#include <boost/beast/http/status.hpp>
 #include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <ctime>
 #include <ostream>  // boost/utility/string_view.hpp needs it first
 #include <random>
-
-#include <boost/beast/http/status.hpp>
 
 namespace mtc::bridge::detail {
 namespace {
@@ -32,8 +31,8 @@ std::string_view http_date() {
     std::tm utc{};
     gmtime_r(&now, &utc);
     // strftime under the "C" locale (the program never calls setlocale).
-    cache.size = std::strftime(cache.text.data(), cache.text.size(),
-                               "%a, %d %b %Y %H:%M:%S GMT", &utc);
+    cache.size =
+        std::strftime(cache.text.data(), cache.text.size(), "%a, %d %b %Y %H:%M:%S GMT", &utc);
     cache.second = now;
   }
   return {cache.text.data(), cache.size};
@@ -75,14 +74,14 @@ void write_head(std::string& out, const HeadFields& fields) {
   out.append("\r\n\r\n");
 }
 
-void write_stream_head(std::string& out, std::string_view boundary,
-                       std::string_view server_name) {
+void write_stream_head(std::string& out, std::string_view boundary, std::string_view server_name) {
   out.clear();
   append_status_line(out, 11, 200);
   out.append(server_name);
   out.append("\r\nDate: ");
   out.append(http_date());
-  out.append("\r\nCache-Control: no-cache, no-store\r\nContent-Type: multipart/x-mixed-replace;boundary=");
+  out.append(
+      "\r\nCache-Control: no-cache, no-store\r\nContent-Type: multipart/x-mixed-replace;boundary=");
   out.append(boundary);
   out.append("\r\nTransfer-Encoding: chunked\r\n\r\n");
 }

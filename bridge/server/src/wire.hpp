@@ -22,8 +22,7 @@ struct HeadFields {
 void write_head(std::string& out, const HeadFields& fields);
 
 // Head of a streaming answer: multipart/x-mixed-replace, chunked.
-void write_stream_head(std::string& out, std::string_view boundary,
-                       std::string_view server_name);
+void write_stream_head(std::string& out, std::string_view boundary, std::string_view server_name);
 
 // Appends the chunk header plus the MIME part header of one multipart part
 // whose body has `body_size` bytes; the chunk ends with kPartTail after the

@@ -1,10 +1,9 @@
 #include "bridge_app.hpp"
 
-#include <chrono>
-#include <sstream>
-
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <chrono>
+#include <sstream>
 
 #include "mtc/bridge/printer.hpp"
 
@@ -52,8 +51,8 @@ ServerOptions server_options(const BridgeConfig& config,
     header.creation_time_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                   std::chrono::system_clock::now().time_since_epoch())
                                   .count();
-    response.body = Printer(locked->schema_version())
-                        .error(header, {ErrorEntry{code, std::string(message)}});
+    response.body =
+        Printer(locked->schema_version()).error(header, {ErrorEntry{code, std::string(message)}});
     return response;
   };
   return options;

@@ -32,8 +32,8 @@ struct ServerOptions {
   std::string bind_address = "127.0.0.1";  // loopback unless told otherwise
   std::uint16_t port = 5000;               // 0 = any free port (tests)
   unsigned io_threads = 1;
-  std::size_t max_connections = 256;       // more are answered 503 and closed
-  std::size_t header_limit = 8192;         // request line + headers, bytes
+  std::size_t max_connections = 256;  // more are answered 503 and closed
+  std::size_t header_limit = 8192;    // request line + headers, bytes
   // A request's header must be complete this long after its first byte.
   std::chrono::milliseconds header_timeout{10000};
   // A keep-alive connection with no new request is closed after this.
