@@ -3,8 +3,8 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <sys/syscall.h>
 #include <sys/prctl.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -102,7 +102,8 @@ bool ChildProcess::pump(std::chrono::steady_clock::time_point deadline) {
   const std::size_t before = out_lines_.size();
   while (out_fd_ >= 0 || err_fd_ >= 0) {
     pollfd fds[2] = {{out_fd_, POLLIN, 0}, {err_fd_, POLLIN, 0}};
-    const auto left = std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
     const int rc = poll(fds, 2, static_cast<int>(std::max<long long>(0, left.count())));
     if (rc < 0 && errno == EINTR) continue;
     if (rc <= 0) return true;  // timeout: more may come later
@@ -149,7 +150,8 @@ std::optional<int> ChildProcess::wait_exit(milliseconds timeout) {
   }
   while (running()) {
     pollfd p{pidfd_, POLLIN, 0};
-    const auto left = std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
     const int rc = poll(&p, 1, static_cast<int>(std::max<long long>(0, left.count())));
     if (rc < 0 && errno == EINTR) continue;
     if (rc == 0) return std::nullopt;

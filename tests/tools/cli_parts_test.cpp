@@ -17,12 +17,14 @@ namespace {
 CommandSpec sample_spec() {
   CommandSpec spec;
   spec.name = "sample";
-  spec.options = {{"count", "N", "", ""}, {"json", "", "", ""}, {"device", "UUID", "", "", false, true}};
+  spec.options = {
+      {"count", "N", "", ""}, {"json", "", "", ""}, {"device", "UUID", "", "", false, true}};
   return spec;
 }
 
 TEST(CliArgs, AcceptsSpaceAndEqualsFormsSwitchesAndRepeats) {
-  const auto args = parse_args(sample_spec(), {"--count", "3", "--json", "--device=a", "--device", "b"});
+  const auto args =
+      parse_args(sample_spec(), {"--count", "3", "--json", "--device=a", "--device", "b"});
   EXPECT_EQ(args.value("count"), "3");
   EXPECT_TRUE(args.has("json"));
   EXPECT_EQ(args.values("device"), (std::vector<std::string>{"a", "b"}));
@@ -109,7 +111,9 @@ TEST(FailPlan, RateIsReproducibleForASeedAndRoughlyRight) {
 
 TEST(JsonLine, EscapesAndRoundTripsThroughTheTestReader) {
   JsonLine line;
-  line.field("event", "outcome").field("handshake", std::uint64_t{12}).field("reason", "say \"hi\"\n");
+  line.field("event", "outcome")
+      .field("handshake", std::uint64_t{12})
+      .field("reason", "say \"hi\"\n");
   JsonLine quoted;
   quoted.field("reason", "say \"hi\"");
   const std::string text = line.str();

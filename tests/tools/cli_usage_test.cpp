@@ -93,7 +93,7 @@ TEST(CliUsage, BadDurationExits2) {
 
 TEST(CliUsage, UnknownServiceExits2AndListsTheTen) {
   const MtcRun r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service",
-                         "MATERIAL_TELEPORT", "--counterpart", "machine-1"});
+                            "MATERIAL_TELEPORT", "--counterpart", "machine-1"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("unknown service 'MATERIAL_TELEPORT'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("CLOSE_CHUCK"), std::string::npos) << r.err;
@@ -107,7 +107,7 @@ TEST(CliUsage, RequestWithoutRequiredFlagsExits2) {
 
 TEST(CliUsage, RespondRejectsBadFailureInjection) {
   MtcRun r = run_mtc({"respond", "--device", "m", "--interface", "mh", "--service", "MATERIAL_LOAD",
-                   "--fail-at", "lunch"});
+                      "--fail-at", "lunch"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--fail-at"), std::string::npos) << r.err;
   r = run_mtc({"respond", "--device", "m", "--interface", "mh", "--service", "MATERIAL_LOAD",

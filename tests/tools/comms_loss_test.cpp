@@ -37,8 +37,8 @@ std::vector<std::string> responder_args(const std::string& action_ms) {
 
 std::vector<std::string> requester_args(int count) {
   return with_udp({"--device", "robot-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
-                   "--counterpart", "machine-1", "--count", std::to_string(count),
-                   "--keep-going", "--timeout", "30s"});
+                   "--counterpart", "machine-1", "--count", std::to_string(count), "--keep-going",
+                   "--timeout", "30s"});
 }
 
 std::optional<std::string> wait_response_active(ChildProcess& requester) {

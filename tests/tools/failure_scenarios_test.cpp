@@ -45,16 +45,16 @@ class FailureScenario : public ::testing::TestWithParam<Scenario> {};
 
 TEST_P(FailureScenario, BothSidesFailRecoverAndTheNextHandshakeCompletes) {
   const Scenario& s = GetParam();
-  std::vector<std::string> responder_args = {"--device", "machine-1", "--interface", "mh",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--action-ms", "200", "--fail-on", "1"};
+  std::vector<std::string> responder_args = {
+      "--device",      "machine-1", "--interface", "mh",  "--service", "MATERIAL_LOAD",
+      "--counterpart", "robot-1",   "--action-ms", "200", "--fail-on", "1"};
   responder_args.insert(responder_args.end(), s.responder_injection.begin(),
                         s.responder_injection.end());
   auto responder = start_responder(s.domain, responder_args);
-  std::vector<std::string> requester_args = {"--device", "robot-1", "--interface", "mh",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "machine-1", "--count", "2", "--keep-going",
-                                             "--timeout", "30s", "--fail-on", "1"};
+  std::vector<std::string> requester_args = {
+      "--device",      "robot-1",       "--interface", "mh",        "--service",
+      "MATERIAL_LOAD", "--counterpart", "machine-1",   "--count",   "2",
+      "--keep-going",  "--timeout",     "30s",         "--fail-on", "1"};
   requester_args.insert(requester_args.end(), s.requester_injection.begin(),
                         s.requester_injection.end());
   auto requester = start_mtc("request", s.domain, requester_args);
@@ -68,7 +68,8 @@ TEST_P(FailureScenario, BothSidesFailRecoverAndTheNextHandshakeCompletes) {
 
   const auto steps = transitions(*requester, 1);
   EXPECT_TRUE(is_subsequence(s.ordered, steps)) << requester->transcript();
-  for (const auto& a : s.absent) EXPECT_FALSE(contains(steps, a)) << a << "\n" << requester->transcript();
+  for (const auto& a : s.absent)
+    EXPECT_FALSE(contains(steps, a)) << a << "\n" << requester->transcript();
   // Recovery: both sides back to READY before the outcome is reported.
   ASSERT_FALSE(steps.empty());
   EXPECT_TRUE(contains(steps, "request:READY")) << requester->transcript();
@@ -86,18 +87,31 @@ INSTANTIATE_TEST_SUITE_P(
     Part5Section5_1, FailureScenario,
     ::testing::Values(
         // 1: the responder fails immediately, before going ACTIVE.
-        Scenario{"S1_ResponderFailsImmediately", 62, {"--fail-at", "accept"}, {},
-                 {"request:ACTIVE", "response:FAIL", "request:FAIL"}, {"response:ACTIVE"}},
+        Scenario{"S1_ResponderFailsImmediately",
+                 62,
+                 {"--fail-at", "accept"},
+                 {},
+                 {"request:ACTIVE", "response:FAIL", "request:FAIL"},
+                 {"response:ACTIVE"}},
         // 2: the responder fails while providing the service.
-        Scenario{"S2_ResponderFailsWhileActive", 63, {"--fail-at", "active"}, {},
+        Scenario{"S2_ResponderFailsWhileActive",
+                 63,
+                 {"--fail-at", "active"},
+                 {},
                  {"request:ACTIVE", "response:ACTIVE", "response:FAIL", "request:FAIL"},
                  {"response:COMPLETE"}},
         // 2, late: at the moment the action would have completed.
-        Scenario{"S2_ResponderFailsAtCompletion", 64, {"--fail-at", "complete"}, {},
+        Scenario{"S2_ResponderFailsAtCompletion",
+                 64,
+                 {"--fail-at", "complete"},
+                 {},
                  {"request:ACTIVE", "response:ACTIVE", "response:FAIL", "request:FAIL"},
                  {"response:COMPLETE"}},
         // 3: the requester fails while the responder is ACTIVE.
-        Scenario{"S3_RequesterFailsDuringService", 65, {}, {"--fail-at", "active"},
+        Scenario{"S3_RequesterFailsDuringService",
+                 65,
+                 {},
+                 {"--fail-at", "active"},
                  {"request:ACTIVE", "response:ACTIVE", "request:FAIL", "response:FAIL"},
                  {"response:COMPLETE"}}),
     [](const ::testing::TestParamInfo<Scenario>& param) { return std::string(param.param.name); });

@@ -14,16 +14,16 @@ namespace mtc::test {
 namespace {
 
 const std::vector<std::string> kServices = {
-    "MATERIAL_FEED", "MATERIAL_CHANGE", "MATERIAL_RETRACT", "PART_CHANGE", "MATERIAL_LOAD",
-    "MATERIAL_UNLOAD", "OPEN_DOOR", "CLOSE_DOOR", "OPEN_CHUCK", "CLOSE_CHUCK"};
+    "MATERIAL_FEED",   "MATERIAL_CHANGE", "MATERIAL_RETRACT", "PART_CHANGE", "MATERIAL_LOAD",
+    "MATERIAL_UNLOAD", "OPEN_DOOR",       "CLOSE_DOOR",       "OPEN_CHUCK",  "CLOSE_CHUCK"};
 
-const std::vector<std::string> kSuccess = {"request:ACTIVE", "response:ACTIVE",
-                                           "response:COMPLETE", "request:READY",
-                                           "response:READY"};
+const std::vector<std::string> kSuccess = {"request:ACTIVE", "response:ACTIVE", "response:COMPLETE",
+                                           "request:READY", "response:READY"};
 
-std::vector<std::string> requester_args(const std::string& service, std::vector<std::string> more = {}) {
-  std::vector<std::string> args = {"--device", "robot-1", "--interface", "cell",
-                                   "--service", service, "--counterpart", "machine-1",
+std::vector<std::string> requester_args(const std::string& service,
+                                        std::vector<std::string> more = {}) {
+  std::vector<std::string> args = {"--device",  "robot-1", "--interface",   "cell",
+                                   "--service", service,   "--counterpart", "machine-1",
                                    "--timeout", "30s"};
   args.insert(args.end(), more.begin(), more.end());
   return args;
@@ -39,9 +39,9 @@ TEST(Handshake, EveryServiceCompletesAcrossProcesses) {
     ++k;
     const std::string machine = "machine-" + std::to_string(k);
     const std::string robot = "robot-" + std::to_string(k);
-    auto responder = start_responder(kDomain, {"--device", machine, "--interface", "cell",
-                                               "--service", service, "--counterpart", robot,
-                                               "--action-ms", "10"});
+    auto responder =
+        start_responder(kDomain, {"--device", machine, "--interface", "cell", "--service", service,
+                                  "--counterpart", robot, "--action-ms", "10"});
     auto requester = start_mtc("request", kDomain,
                                {"--device", robot, "--interface", "cell", "--service", service,
                                 "--counterpart", machine, "--timeout", "30s"});
@@ -63,9 +63,9 @@ TEST(Handshake, EveryServiceCompletesAcrossProcesses) {
 TEST(Handshake, ManyHandshakesCompleteInOrderWithLatencies) {
   constexpr int kDomain = 61;
   constexpr int kCount = 20;
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "cell",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--action-ms", "0"});
+  auto responder =
+      start_responder(kDomain, {"--device", "machine-1", "--interface", "cell", "--service",
+                                "MATERIAL_LOAD", "--counterpart", "robot-1", "--action-ms", "0"});
   auto requester = start_mtc("request", kDomain,
                              requester_args("MATERIAL_LOAD", {"--count", std::to_string(kCount)}));
   ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 0) << requester->transcript();
@@ -92,9 +92,9 @@ TEST(Handshake, ManyHandshakesCompleteInOrderWithLatencies) {
 
 TEST(Handshake, NotReadyResponderIsReportedWithItsOwnExitCode) {
   constexpr int kDomain = 68;
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "cell",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--not-ready"});
+  auto responder =
+      start_responder(kDomain, {"--device", "machine-1", "--interface", "cell", "--service",
+                                "MATERIAL_LOAD", "--counterpart", "robot-1", "--not-ready"});
   auto requester = start_mtc("request", kDomain,
                              {"--device", "robot-1", "--interface", "cell", "--service",
                               "MATERIAL_LOAD", "--counterpart", "machine-1", "--timeout", "3s"});
@@ -105,14 +105,15 @@ TEST(Handshake, NotReadyResponderIsReportedWithItsOwnExitCode) {
   // The request never went ACTIVE: Part 5 forbids requesting from a NOT_READY responder.
   const auto steps = transitions(*requester, 1);
   EXPECT_EQ(std::count(steps.begin(), steps.end(), "request:ACTIVE"), 0) << requester->transcript();
-  EXPECT_EQ(std::count(steps.begin(), steps.end(), "response:NOT_READY"), 1) << requester->transcript();
+  EXPECT_EQ(std::count(steps.begin(), steps.end(), "response:NOT_READY"), 1)
+      << requester->transcript();
 }
 
 TEST(Handshake, ResponderWithCountExitsAfterThatManyHandshakes) {
   constexpr int kDomain = 78;
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "cell",
-                                             "--service", "PART_CHANGE", "--counterpart",
-                                             "robot-1", "--action-ms", "0", "--count", "2"});
+  auto responder = start_responder(
+      kDomain, {"--device", "machine-1", "--interface", "cell", "--service", "PART_CHANGE",
+                "--counterpart", "robot-1", "--action-ms", "0", "--count", "2"});
   auto requester = start_mtc("request", kDomain, requester_args("PART_CHANGE", {"--count", "2"}));
   ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 0) << requester->transcript();
   ASSERT_EQ(responder->wait_exit(kHandshakeTimeout), 0) << responder->transcript();

@@ -22,9 +22,9 @@ bool has(const std::vector<std::string>& v, const std::string& s) {
 
 TEST(MisbehavingPeer, S4_RequesterBackToReadyWhileActiveFailsTheResponder) {
   constexpr int kDomain = 66;
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--action-ms", "60000,10"});
+  auto responder = start_responder(
+      kDomain, {"--device", "machine-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
+                "--counterpart", "robot-1", "--action-ms", "60000,10"});
   RoguePeer robot(kDomain, "robot-1", "mh", core::Service::MaterialLoad, core::SubType::Request,
                   "machine-1");
   robot.set_state(InteractionState::Ready);
@@ -51,7 +51,8 @@ TEST(MisbehavingPeer, S4_RequesterBackToReadyWhileActiveFailsTheResponder) {
   ASSERT_TRUE(robot.wait_counterpart(InteractionState::Ready, kStep)) << responder->transcript();
 
   const auto steps = transitions(*responder, 1);
-  EXPECT_TRUE(has(steps, "response:ACTIVE") && has(steps, "response:FAIL")) << responder->transcript();
+  EXPECT_TRUE(has(steps, "response:ACTIVE") && has(steps, "response:FAIL"))
+      << responder->transcript();
   EXPECT_FALSE(has(steps, "response:COMPLETE")) << responder->transcript();
 }
 
@@ -60,10 +61,10 @@ TEST(MisbehavingPeer, S5_ResponderNotReadyWhileActiveFailsTheRequester) {
   RoguePeer machine(kDomain, "machine-1", "mh", core::Service::MaterialLoad,
                     core::SubType::Response, "robot-1");
   machine.set_state(InteractionState::Ready);
-  auto requester = start_mtc("request", kDomain,
-                             {"--device", "robot-1", "--interface", "mh", "--service",
-                              "MATERIAL_LOAD", "--counterpart", "machine-1", "--count", "2",
-                              "--keep-going", "--timeout", "30s"});
+  auto requester =
+      start_mtc("request", kDomain,
+                {"--device", "robot-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
+                 "--counterpart", "machine-1", "--count", "2", "--keep-going", "--timeout", "30s"});
   ASSERT_TRUE(machine.wait_counterpart(InteractionState::Active, kStep)) << requester->transcript();
   machine.set_state(InteractionState::Active);
   ASSERT_TRUE(requester->wait_for_line({"\"side\":\"response\"", "\"state\":\"ACTIVE\""}, kStep))
@@ -85,7 +86,8 @@ TEST(MisbehavingPeer, S5_ResponderNotReadyWhileActiveFailsTheRequester) {
   EXPECT_EQ(out[0].result, "FAIL");
   EXPECT_EQ(out[1].result, "COMPLETE");
   const auto steps = steps_from_request(*requester, 1);
-  EXPECT_TRUE(has(steps, "response:NOT_READY") && has(steps, "request:FAIL")) << requester->transcript();
+  EXPECT_TRUE(has(steps, "response:NOT_READY") && has(steps, "request:FAIL"))
+      << requester->transcript();
 }
 
 }  // namespace

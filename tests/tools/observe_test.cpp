@@ -18,13 +18,13 @@ using Clock = std::chrono::steady_clock;
 TEST(Watch, ShowsTransitionsWithLatencyAndUnavailableOnLoss) {
   constexpr int kDomain = 73;
   auto watch = start_mtc("watch", kDomain, {"--transport", "loopback-udp"});
-  ASSERT_TRUE(watch->wait_for_line({"\"event\":\"watching\""}, kStartTimeout)) << watch->transcript();
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--action-ms", "10", "--transport",
-                                             "loopback-udp"});
-  ASSERT_TRUE(watch->wait_for_line({"\"event\":\"device\"", "\"device\":\"machine-1\""},
-                                   kStartTimeout))
+  ASSERT_TRUE(watch->wait_for_line({"\"event\":\"watching\""}, kStartTimeout))
+      << watch->transcript();
+  auto responder = start_responder(
+      kDomain, {"--device", "machine-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
+                "--counterpart", "robot-1", "--action-ms", "10", "--transport", "loopback-udp"});
+  ASSERT_TRUE(
+      watch->wait_for_line({"\"event\":\"device\"", "\"device\":\"machine-1\""}, kStartTimeout))
       << watch->transcript();
   auto requester = start_mtc("request", kDomain,
                              {"--device", "robot-1", "--interface", "mh", "--service",
@@ -33,10 +33,10 @@ TEST(Watch, ShowsTransitionsWithLatencyAndUnavailableOnLoss) {
 
   // The response's path through the handshake, each with a latency.
   for (const char* state : {"ACTIVE", "COMPLETE"}) {
-    const auto line = watch->wait_for_line(
-        {"\"event\":\"value\"", "\"device\":\"machine-1\"", "MATERIAL_LOAD RESPONSE",
-         std::string("\"value\":\"") + state + "\""},
-        kHandshakeTimeout);
+    const auto line =
+        watch->wait_for_line({"\"event\":\"value\"", "\"device\":\"machine-1\"",
+                              "MATERIAL_LOAD RESPONSE", std::string("\"value\":\"") + state + "\""},
+                             kHandshakeTimeout);
     ASSERT_TRUE(line) << watch->transcript();
     const double latency = std::stod(json_field(*line, "latency_ms").value_or("-1"));
     EXPECT_GE(latency, -50.0);  // same host, same clock: small, never far negative
@@ -58,9 +58,9 @@ TEST(Watch, ShowsTransitionsWithLatencyAndUnavailableOnLoss) {
 
 TEST(List, FindsDevicesInterfacesAndCurrentValues) {
   constexpr int kDomain = 74;
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
-                                             "--service", "MATERIAL_LOAD,MATERIAL_UNLOAD",
-                                             "--counterpart", "robot-1"});
+  auto responder =
+      start_responder(kDomain, {"--device", "machine-1", "--interface", "mh", "--service",
+                                "MATERIAL_LOAD,MATERIAL_UNLOAD", "--counterpart", "robot-1"});
   auto list = start_mtc("list", kDomain, {"--expect-devices", "1", "--wait-ms", "20000"});
   ASSERT_EQ(list->wait_exit(kHandshakeTimeout), 0) << list->transcript();
   ASSERT_EQ(list->lines().size(), 1u) << list->transcript();

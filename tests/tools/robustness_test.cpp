@@ -17,14 +17,13 @@ TEST(Robustness, EveryHandshakeCompletesInOrderDespitePacketLoss) {
   // Both sides drop 10 % of the DATA they send; reliable repair must hide it.
   // The action takes 50 ms, as any real one takes longer than a repair: an
   // instant one lets COMPLETE replace a lost ACTIVE in the writer's history.
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--action-ms", "50", "--drop-percent",
-                                             "10"});
-  auto requester = start_mtc("request", kDomain,
-                             {"--device", "robot-1", "--interface", "mh", "--service",
-                              "MATERIAL_LOAD", "--counterpart", "machine-1", "--count",
-                              std::to_string(kCount), "--timeout", "30s", "--drop-percent", "10"});
+  auto responder = start_responder(
+      kDomain, {"--device", "machine-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
+                "--counterpart", "robot-1", "--action-ms", "50", "--drop-percent", "10"});
+  auto requester = start_mtc(
+      "request", kDomain,
+      {"--device", "robot-1", "--interface", "mh", "--service", "MATERIAL_LOAD", "--counterpart",
+       "machine-1", "--count", std::to_string(kCount), "--timeout", "30s", "--drop-percent", "10"});
   ASSERT_EQ(requester->wait_exit(milliseconds(120000)), 0) << requester->transcript();
   const auto out = outcomes(*requester);
   ASSERT_EQ(out.size(), static_cast<std::size_t>(kCount)) << requester->transcript();
@@ -42,14 +41,14 @@ TEST(Robustness, EveryHandshakeCompletesInOrderDespitePacketLoss) {
 TEST(Robustness, RandomFailuresAreReportedIdenticallyOnBothSides) {
   constexpr int kDomain = 76;
   constexpr int kCount = 16;
-  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
-                                             "--service", "MATERIAL_LOAD", "--counterpart",
-                                             "robot-1", "--action-ms", "5", "--fail-rate", "0.3",
-                                             "--seed", "7"});
-  auto requester = start_mtc("request", kDomain,
-                             {"--device", "robot-1", "--interface", "mh", "--service",
-                              "MATERIAL_LOAD", "--counterpart", "machine-1", "--count",
-                              std::to_string(kCount), "--keep-going", "--timeout", "30s"});
+  auto responder =
+      start_responder(kDomain, {"--device", "machine-1", "--interface", "mh", "--service",
+                                "MATERIAL_LOAD", "--counterpart", "robot-1", "--action-ms", "5",
+                                "--fail-rate", "0.3", "--seed", "7"});
+  auto requester = start_mtc(
+      "request", kDomain,
+      {"--device", "robot-1", "--interface", "mh", "--service", "MATERIAL_LOAD", "--counterpart",
+       "machine-1", "--count", std::to_string(kCount), "--keep-going", "--timeout", "30s"});
   const auto code = requester->wait_exit(milliseconds(120000));
   const auto req = outcomes(*requester);
   ASSERT_EQ(req.size(), static_cast<std::size_t>(kCount)) << requester->transcript();
@@ -70,9 +69,9 @@ TEST(Robustness, RandomFailuresAreReportedIdenticallyOnBothSides) {
 TEST(Robustness, SigtermAndSigintShutDownCleanly) {
   constexpr int kDomain = 75;
   for (int sig : {SIGTERM, SIGINT}) {
-    auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
-                                               "--service", "MATERIAL_LOAD", "--counterpart",
-                                               "robot-1"});
+    auto responder =
+        start_responder(kDomain, {"--device", "machine-1", "--interface", "mh", "--service",
+                                  "MATERIAL_LOAD", "--counterpart", "robot-1"});
     responder->send_signal(sig);
     EXPECT_EQ(responder->wait_exit(kStartTimeout), 0) << responder->transcript();
     EXPECT_TRUE(responder->wait_for_line({"\"event\":\"stopped\""}, milliseconds(0)))

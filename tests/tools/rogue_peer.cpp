@@ -21,7 +21,9 @@ struct RoguePeer::Impl {
 
   Impl(int domain, const std::string& device, const qos::Timing& t)
       : timing(t),
-        participant(domain, qos::participant_qos({"rogue-" + device, qos::Transport::LoopbackUdp, {}, t})) {}
+        participant(domain,
+                    qos::participant_qos({"rogue-" + device, qos::Transport::LoopbackUdp, {}, t})) {
+  }
 
   // Writes the current value; repeat = heartbeat of an unchanged value.
   void publish(bool repeat) {

@@ -96,8 +96,7 @@ std::int64_t to_int(const std::string& option, const std::string& text, std::int
   errno = 0;
   char* end = nullptr;
   const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || v < min ||
-      v > max) {
+  if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || v < min || v > max) {
     throw UsageError("--" + option + " expects an integer in [" + std::to_string(min) + ", " +
                      std::to_string(max) + "], got '" + text + "'");
   }

@@ -46,7 +46,9 @@ class ParsedArgs {
   std::vector<std::string> values(const std::string& name) const;
   std::string value_or(const std::string& name, const std::string& fallback) const;
 
-  void add(const std::string& name, std::string value) { values_[name].push_back(std::move(value)); }
+  void add(const std::string& name, std::string value) {
+    values_[name].push_back(std::move(value));
+  }
 
  private:
   std::map<std::string, std::vector<std::string>> values_;

@@ -71,7 +71,8 @@ void print_json(Output& out, const std::vector<dds::ObservedDevice>& devices,
 void print_table(Output& out, const std::vector<dds::ObservedDevice>& devices,
                  const LatestValues& latest) {
   std::ostringstream table;
-  table << "DEVICE           INTERFACE        TYPE               DATA ITEM                  VALUE\n";
+  table
+      << "DEVICE           INTERFACE        TYPE               DATA ITEM                  VALUE\n";
   auto pad = [](const std::string& s, std::size_t w) {
     return s.size() >= w ? s + " " : s + std::string(w - s.size(), ' ');
   };
@@ -92,7 +93,8 @@ void print_table(Output& out, const std::vector<dds::ObservedDevice>& devices,
 
 int run_list(const ParsedArgs& args, Context& context) {
   const CommonOptions common = parse_common_options(args);
-  const std::chrono::milliseconds wait(to_int("wait-ms", args.value_or("wait-ms", "2000"), 0, 3600000));
+  const std::chrono::milliseconds wait(
+      to_int("wait-ms", args.value_or("wait-ms", "2000"), 0, 3600000));
   std::size_t expect = 0;
   if (auto e = args.value("expect-devices")) {
     expect = static_cast<std::size_t>(to_int("expect-devices", *e, 1, 100000));

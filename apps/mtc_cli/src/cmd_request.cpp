@@ -10,7 +10,8 @@ namespace {
 RequestConfig parse_request(const ParsedArgs& args) {
   RequestConfig c;
   c.equipment = parse_equipment_options(args, false, true);
-  if (auto n = args.value("count")) c.count = static_cast<std::uint64_t>(to_int("count", *n, 1, 100000000));
+  if (auto n = args.value("count"))
+    c.count = static_cast<std::uint64_t>(to_int("count", *n, 1, 100000000));
   if (auto t = args.value("timeout")) c.timeout = to_duration("timeout", *t);
   c.keep_going = args.has("keep-going");
   c.fail_plan = parse_fail_options(args, false);
@@ -25,8 +26,11 @@ int run_request(const ParsedArgs& args, Context& context) {
   const auto& eq = config.equipment;
   if (eq.common.json) {
     JsonLine line;
-    line.field("event", "started").field("device", eq.device_uuid).field("interface", eq.interface_id)
-        .field("service", core::to_string(eq.services.front())).field("counterpart", eq.counterpart)
+    line.field("event", "started")
+        .field("device", eq.device_uuid)
+        .field("interface", eq.interface_id)
+        .field("service", core::to_string(eq.services.front()))
+        .field("counterpart", eq.counterpart)
         .field("domain", eq.common.domain);
     context.out.line(line.str());
   } else {
@@ -64,7 +68,8 @@ Command request_command() {
   add_fail_options(spec, false);
   add_common_options(spec);
   spec.examples =
-      "  mtc request --device robot-1 --interface mh --service MATERIAL_LOAD --counterpart machine-1\n"
+      "  mtc request --device robot-1 --interface mh --service MATERIAL_LOAD --counterpart "
+      "machine-1\n"
       "  mtc request --domain 5 --device robot-1 --interface door --service OPEN_DOOR \\\n"
       "      --counterpart machine-1 --count 100 --json > handshakes.jsonl\n"
       "  # scenario 3: the requester fails while the responder is ACTIVE\n"

@@ -10,7 +10,8 @@ namespace {
 RespondConfig parse_respond(const ParsedArgs& args) {
   RespondConfig c;
   c.equipment = parse_equipment_options(args, true, false);
-  if (auto n = args.value("count")) c.count = static_cast<std::uint64_t>(to_int("count", *n, 1, 100000000));
+  if (auto n = args.value("count"))
+    c.count = static_cast<std::uint64_t>(to_int("count", *n, 1, 100000000));
   if (auto a = args.value("action-ms")) c.action = parse_action_ms(*a);
   c.not_ready = args.has("not-ready");
   c.fail_plan = parse_fail_options(args, true);
@@ -19,7 +20,8 @@ RespondConfig parse_respond(const ParsedArgs& args) {
 
 std::string service_list_json(const std::vector<core::Service>& services) {
   std::string out = "[";
-  for (std::size_t i = 0; i < services.size(); ++i) out += (i ? "," : "") + json_quote(core::to_string(services[i]));
+  for (std::size_t i = 0; i < services.size(); ++i)
+    out += (i ? "," : "") + json_quote(core::to_string(services[i]));
   return out + "]";
 }
 
@@ -31,8 +33,11 @@ int run_respond(const ParsedArgs& args, Context& context) {
   const auto& eq = config.equipment;
   if (eq.common.json) {
     JsonLine line;
-    line.field("event", "ready").field("device", eq.device_uuid).field("interface", eq.interface_id)
-        .raw_field("services", service_list_json(eq.services)).field("domain", eq.common.domain);
+    line.field("event", "ready")
+        .field("device", eq.device_uuid)
+        .field("interface", eq.interface_id)
+        .raw_field("services", service_list_json(eq.services))
+        .field("domain", eq.common.domain);
     context.out.line(line.str());
   } else {
     context.err.line("responding as " + eq.device_uuid + "/" + eq.interface_id + " on domain " +

@@ -24,7 +24,9 @@ class WatchPrinter {
     if (json_) {
       JsonLine line;
       line.field("event", "device").field("device", d.device_uuid).field("name", d.name);
-      out_.line(line.raw_field("interfaces", interfaces_json(d)).field("reception_time_ns", now_ns()).str());
+      out_.line(line.raw_field("interfaces", interfaces_json(d))
+                    .field("reception_time_ns", now_ns())
+                    .str());
       return;
     }
     std::string text = format_utc(now_ns()) + "  device " + d.device_uuid + " '" + d.name + "'\n" +
@@ -46,12 +48,18 @@ class WatchPrinter {
     const std::int64_t latency = v.reception_time_ns - v.source_time_ns;
     if (json_) {
       JsonLine line;
-      line.field("event", repeat ? "heartbeat" : "value").field("device", v.device_uuid)
-          .field("interface", v.interface_id).field("item", v.data_item_id)
-          .field("kind", to_string(v.kind)).field("label", item_label(v))
-          .field("previous", previous).field("value", v.value)
-          .field("sequence", v.sequence_number).field("heartbeat", v.heartbeat_count)
-          .field("source_time_ns", v.source_time_ns).field("reception_time_ns", v.reception_time_ns)
+      line.field("event", repeat ? "heartbeat" : "value")
+          .field("device", v.device_uuid)
+          .field("interface", v.interface_id)
+          .field("item", v.data_item_id)
+          .field("kind", to_string(v.kind))
+          .field("label", item_label(v))
+          .field("previous", previous)
+          .field("value", v.value)
+          .field("sequence", v.sequence_number)
+          .field("heartbeat", v.heartbeat_count)
+          .field("source_time_ns", v.source_time_ns)
+          .field("reception_time_ns", v.reception_time_ns)
           .field("latency_ms", static_cast<double>(latency) / 1e6);
       out_.line(line.str());
       return;
@@ -74,8 +82,12 @@ class WatchPrinter {
       }
       if (json_) {
         JsonLine line;
-        line.field("event", "lost").field("device", device).field("item", item)
-            .field("previous", previous).field("value", "UNAVAILABLE").field("reception_time_ns", now);
+        line.field("event", "lost")
+            .field("device", device)
+            .field("item", item)
+            .field("previous", previous)
+            .field("value", "UNAVAILABLE")
+            .field("reception_time_ns", now);
         out_.line(line.str());
       } else {
         out_.line(format_utc(now) + "  " + device + "  " + item + "  " + previous +
@@ -88,7 +100,10 @@ class WatchPrinter {
     const std::int64_t now = now_ns();
     if (json_) {
       JsonLine line;
-      out_.line(line.field("event", "device_lost").field("device", device).field("reception_time_ns", now).str());
+      out_.line(line.field("event", "device_lost")
+                    .field("device", device)
+                    .field("reception_time_ns", now)
+                    .str());
     } else {
       out_.line(format_utc(now) + "  device " + device + " lost");
     }

@@ -13,8 +13,8 @@
 namespace mtc::cli {
 
 struct Context {
-  Output& out;   // stdout, one flushed line per event
-  Output& err;   // stderr, diagnostics
+  Output& out;  // stdout, one flushed line per event
+  Output& err;  // stderr, diagnostics
   ShutdownSignal& shutdown;
 };
 

@@ -15,19 +15,26 @@ namespace {
 qos::Transport to_transport(const EquipmentConfig& c) {
   if (c.drop_percent > 0) return qos::Transport::LoopbackTest;
   switch (c.transport) {
-    case TransportChoice::Loopback: return qos::Transport::Loopback;
-    case TransportChoice::LoopbackUdp: return qos::Transport::LoopbackUdp;
-    case TransportChoice::Builtin: return qos::Transport::Builtin;
+    case TransportChoice::Loopback:
+      return qos::Transport::Loopback;
+    case TransportChoice::LoopbackUdp:
+      return qos::Transport::LoopbackUdp;
+    case TransportChoice::Builtin:
+      return qos::Transport::Builtin;
   }
   return qos::Transport::Loopback;
 }
 
 Result to_result(const dds::RequestResult& r, core::InteractionState counterpart) {
   switch (r.outcome) {
-    case dds::Outcome::Completed: return Result::Complete;
-    case dds::Outcome::Failed: return Result::Fail;
-    case dds::Outcome::TimedOut: return Result::Timeout;
-    case dds::Outcome::CommsLost: return Result::CommsLost;
+    case dds::Outcome::Completed:
+      return Result::Complete;
+    case dds::Outcome::Failed:
+      return Result::Fail;
+    case dds::Outcome::TimedOut:
+      return Result::Timeout;
+    case dds::Outcome::CommsLost:
+      return Result::CommsLost;
     case dds::Outcome::Rejected:
       return counterpart == core::InteractionState::NotReady ? Result::NotReady : Result::Fail;
   }
@@ -84,8 +91,10 @@ void EquipmentLink::Impl::on_transition(const dds::TransitionEvent& t) {
 }
 
 void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
-  if (v.kind != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service)) return;
-  const auto wanted = role == core::Role::Requester ? core::SubType::Response : core::SubType::Request;
+  if (v.kind != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service))
+    return;
+  const auto wanted =
+      role == core::Role::Requester ? core::SubType::Response : core::SubType::Request;
   if (*v.sub_type != wanted) return;
   LinkEvent e;
   e.kind = LinkEvent::Kind::CounterpartState;
@@ -102,9 +111,10 @@ void EquipmentLink::Impl::on_link(const dds::LinkEvent& l) {
   if (l.current == dds::LinkState::Lost && !lost) {
     lost = true;
     e.kind = LinkEvent::Kind::CounterpartLost;
-    e.detail = l.counterpart_uuid + ": " + l.cause + " after " +
-               std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(l.silence).count()) +
-               " ms of silence";
+    e.detail =
+        l.counterpart_uuid + ": " + l.cause + " after " +
+        std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(l.silence).count()) +
+        " ms of silence";
     events.push(std::move(e));
   } else if (l.current == dds::LinkState::Up && lost) {
     lost = false;
@@ -195,14 +205,24 @@ EquipmentLink::Refusal EquipmentLink::request(core::Service s, std::chrono::mill
   return std::nullopt;
 }
 
-EquipmentLink::Refusal EquipmentLink::accept(core::Service s) { return refusal(impl_->responder(s).accept()); }
-EquipmentLink::Refusal EquipmentLink::complete(core::Service s) { return refusal(impl_->responder(s).complete()); }
-EquipmentLink::Refusal EquipmentLink::fail(core::Service s) { return refusal(impl_->handle(s).fail()); }
-EquipmentLink::Refusal EquipmentLink::recover(core::Service s) { return refusal(impl_->handle(s).recover()); }
+EquipmentLink::Refusal EquipmentLink::accept(core::Service s) {
+  return refusal(impl_->responder(s).accept());
+}
+EquipmentLink::Refusal EquipmentLink::complete(core::Service s) {
+  return refusal(impl_->responder(s).complete());
+}
+EquipmentLink::Refusal EquipmentLink::fail(core::Service s) {
+  return refusal(impl_->handle(s).fail());
+}
+EquipmentLink::Refusal EquipmentLink::recover(core::Service s) {
+  return refusal(impl_->handle(s).recover());
+}
 EquipmentLink::Refusal EquipmentLink::set_ready(core::Service s, bool ready) {
   return refusal(impl_->handle(s).set_ready(ready));
 }
 
-core::InteractionState EquipmentLink::state(core::Service s) const { return impl_->handle(s).state(); }
+core::InteractionState EquipmentLink::state(core::Service s) const {
+  return impl_->handle(s).state();
+}
 
 }  // namespace mtc::cli

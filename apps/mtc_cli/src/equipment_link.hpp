@@ -37,7 +37,6 @@ class EquipmentLink {
   // Latest published own state (snapshot, any thread).
   core::InteractionState state(core::Service s) const;
 
-
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

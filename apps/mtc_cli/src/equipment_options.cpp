@@ -8,7 +8,8 @@ namespace {
 
 std::string all_service_names() {
   std::string text;
-  for (auto s : core::kAllServices) text += (text.empty() ? "" : ", ") + std::string(core::to_string(s));
+  for (auto s : core::kAllServices)
+    text += (text.empty() ? "" : ", ") + std::string(core::to_string(s));
   return text;
 }
 
@@ -30,7 +31,8 @@ TransportChoice parse_transport(const std::string& text) {
 std::vector<core::Service> parse_services(const std::string& text, bool many) {
   if (many && text == "all") return {core::kAllServices.begin(), core::kAllServices.end()};
   const auto names = split_list(text);
-  if (names.empty()) throw UsageError("--service needs a service name (" + all_service_names() + ")");
+  if (names.empty())
+    throw UsageError("--service needs a service name (" + all_service_names() + ")");
   if (!many && names.size() > 1) throw UsageError("--service takes exactly one service here");
   std::vector<core::Service> services;
   for (const auto& n : names) {
@@ -45,12 +47,16 @@ core::InterfaceType default_interface_type(core::Service service) {
   switch (service) {
     case core::Service::MaterialFeed:
     case core::Service::MaterialChange:
-    case core::Service::MaterialRetract: return core::InterfaceType::BarFeeder;
+    case core::Service::MaterialRetract:
+      return core::InterfaceType::BarFeeder;
     case core::Service::OpenDoor:
-    case core::Service::CloseDoor: return core::InterfaceType::Door;
+    case core::Service::CloseDoor:
+      return core::InterfaceType::Door;
     case core::Service::OpenChuck:
-    case core::Service::CloseChuck: return core::InterfaceType::Chuck;
-    default: return core::InterfaceType::MaterialHandler;
+    case core::Service::CloseChuck:
+      return core::InterfaceType::Chuck;
+    default:
+      return core::InterfaceType::MaterialHandler;
   }
 }
 
@@ -64,39 +70,46 @@ std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text) 
 }
 
 void add_observer_options(CommandSpec& spec) {
-  spec.options.push_back({"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin",
-                          "loopback"});
+  spec.options.push_back(
+      {"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin", "loopback"});
   spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of the watched devices", "100"});
-  spec.options.push_back({"missed-heartbeats", "N", "missed heartbeats before items read UNAVAILABLE", "3"});
+  spec.options.push_back(
+      {"missed-heartbeats", "N", "missed heartbeats before items read UNAVAILABLE", "3"});
 }
 
 ObserverSettings parse_observer_options(const ParsedArgs& args) {
   ObserverSettings s;
   if (auto t = args.value("transport")) s.transport = parse_transport(*t);
-  if (auto h = args.value("heartbeat-ms")) s.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  if (auto m = args.value("missed-heartbeats")) s.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
+  if (auto h = args.value("heartbeat-ms"))
+    s.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
+  if (auto m = args.value("missed-heartbeats"))
+    s.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
   return s;
 }
 
 void add_equipment_options(CommandSpec& spec, bool many_services) {
   spec.options.push_back({"device", "UUID", "this equipment's device uuid (required)", ""});
   spec.options.push_back({"name", "NAME", "device name announced for probes", "the uuid"});
-  spec.options.push_back({"interface", "ID", "interface id, shared with the counterpart (required)", ""});
-  spec.options.push_back({"interface-type", "TYPE",
-                          "BAR_FEEDER, MATERIAL_HANDLER, DOOR or CHUCK", "from the service"});
+  spec.options.push_back(
+      {"interface", "ID", "interface id, shared with the counterpart (required)", ""});
+  spec.options.push_back({"interface-type", "TYPE", "BAR_FEEDER, MATERIAL_HANDLER, DOOR or CHUCK",
+                          "from the service"});
   spec.options.push_back({"service", "NAME",
                           many_services ? "service(s): a name, a comma list or 'all' (required)"
                                         : "service to request, e.g. MATERIAL_LOAD (required)",
                           ""});
-  spec.options.push_back({"counterpart", "UUID",
-                          many_services ? "device uuid of the requester" : "device uuid of the responder (required)",
-                          many_services ? "any" : ""});
-  spec.options.push_back({"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin",
-                          "loopback"});
+  spec.options.push_back(
+      {"counterpart", "UUID",
+       many_services ? "device uuid of the requester" : "device uuid of the responder (required)",
+       many_services ? "any" : ""});
+  spec.options.push_back(
+      {"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin", "loopback"});
   spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of every data item", "100"});
-  spec.options.push_back({"missed-heartbeats", "N", "heartbeats missed before the peer counts as lost", "3"});
+  spec.options.push_back(
+      {"missed-heartbeats", "N", "heartbeats missed before the peer counts as lost", "3"});
   spec.options.push_back({"fail-ack-timeout", "TIME",
-                          "leave FAIL without the counterpart's acknowledgement after this long", "2s"});
+                          "leave FAIL without the counterpart's acknowledgement after this long",
+                          "2s"});
   spec.options.push_back({"drop-percent", "P", "test transport: drop P% of sent DATA", "", true});
 }
 
@@ -113,30 +126,40 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
   c.device_uuid = required(args, "device");
   c.interface_id = required(args, "interface");
   c.device_name = args.value_or("name", c.device_uuid);
-  c.counterpart = counterpart_required ? required(args, "counterpart") : args.value_or("counterpart", "");
+  c.counterpart =
+      counterpart_required ? required(args, "counterpart") : args.value_or("counterpart", "");
   c.interface_type = default_interface_type(c.services.front());
   if (auto t = args.value("interface-type")) {
     auto parsed = core::parse_interface_type(*t);
-    if (!parsed) throw UsageError("unknown interface type '" + *t + "' (BAR_FEEDER, MATERIAL_HANDLER, DOOR, CHUCK)");
+    if (!parsed)
+      throw UsageError("unknown interface type '" + *t +
+                       "' (BAR_FEEDER, MATERIAL_HANDLER, DOOR, CHUCK)");
     c.interface_type = *parsed;
   }
   if (auto t = args.value("transport")) c.transport = parse_transport(*t);
-  if (auto h = args.value("heartbeat-ms")) c.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  if (auto m = args.value("missed-heartbeats")) c.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
-  if (auto f = args.value("fail-ack-timeout")) c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);
-  if (auto d = args.value("drop-percent")) c.drop_percent = static_cast<int>(to_int("drop-percent", *d, 0, 100));
+  if (auto h = args.value("heartbeat-ms"))
+    c.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
+  if (auto m = args.value("missed-heartbeats"))
+    c.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
+  if (auto f = args.value("fail-ack-timeout"))
+    c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);
+  if (auto d = args.value("drop-percent"))
+    c.drop_percent = static_cast<int>(to_int("drop-percent", *d, 0, 100));
   return c;
 }
 
 void add_fail_options(CommandSpec& spec, bool responder) {
-  spec.options.push_back({"fail-at", "STEP",
-                          responder ? "go FAIL at: accept (instead of ACTIVE), active (mid-action), complete"
-                                    : "go FAIL at: active (while the responder is ACTIVE)",
-                          "none"});
-  spec.options.push_back({"fail-on", "N[,M...]", "handshake numbers the failure applies to", "every one"});
+  spec.options.push_back(
+      {"fail-at", "STEP",
+       responder ? "go FAIL at: accept (instead of ACTIVE), active (mid-action), complete"
+                 : "go FAIL at: active (while the responder is ACTIVE)",
+       "none"});
+  spec.options.push_back(
+      {"fail-on", "N[,M...]", "handshake numbers the failure applies to", "every one"});
   if (responder) {
     spec.options.push_back({"fail-rate", "P", "fail each handshake with probability P (0-1)", "0"});
-    spec.options.push_back({"seed", "N", "random seed for --fail-rate (same seed, same failures)", "1"});
+    spec.options.push_back(
+        {"seed", "N", "random seed for --fail-rate (same seed, same failures)", "1"});
   }
 }
 
@@ -144,21 +167,25 @@ FailPlan parse_fail_options(const ParsedArgs& args, bool responder) {
   FailStep step = FailStep::None;
   if (auto s = args.value("fail-at")) {
     auto parsed = parse_fail_step(*s);
-    const bool allowed = parsed && (responder || *parsed == FailStep::Active || *parsed == FailStep::None);
+    const bool allowed =
+        parsed && (responder || *parsed == FailStep::Active || *parsed == FailStep::None);
     if (!allowed) {
       throw UsageError(std::string("--fail-at expects ") +
-                       (responder ? "accept, active or complete" : "active") + ", got '" + *s + "'");
+                       (responder ? "accept, active or complete" : "active") + ", got '" + *s +
+                       "'");
     }
     step = *parsed;
   }
   std::vector<std::uint64_t> only_on;
   if (auto on = args.value("fail-on")) {
-    for (const auto& n : split_list(*on)) only_on.push_back(static_cast<std::uint64_t>(to_int("fail-on", n, 1, INT64_MAX)));
+    for (const auto& n : split_list(*on))
+      only_on.push_back(static_cast<std::uint64_t>(to_int("fail-on", n, 1, INT64_MAX)));
   }
   double rate = 0;
   std::uint64_t seed = 1;
   if (auto r = args.value("fail-rate")) rate = to_double("fail-rate", *r, 0.0, 1.0);
-  if (auto s = args.value("seed")) seed = static_cast<std::uint64_t>(to_int("seed", *s, 0, INT64_MAX));
+  if (auto s = args.value("seed"))
+    seed = static_cast<std::uint64_t>(to_int("seed", *s, 0, INT64_MAX));
   return FailPlan(step, std::move(only_on), rate, seed);
 }
 

@@ -14,10 +14,14 @@ std::optional<FailStep> parse_fail_step(std::string_view text) {
 
 std::string_view to_string(FailStep step) {
   switch (step) {
-    case FailStep::None: return "none";
-    case FailStep::Accept: return "accept";
-    case FailStep::Active: return "active";
-    case FailStep::Complete: return "complete";
+    case FailStep::None:
+      return "none";
+    case FailStep::Accept:
+      return "accept";
+    case FailStep::Active:
+      return "active";
+    case FailStep::Complete:
+      return "complete";
   }
   return "none";
 }

@@ -37,8 +37,7 @@ class FailPlan {
   // step: where the configured failure (going FAIL) happens. only_on: 1-based handshake numbers it
   // applies to (empty = all). rate > 0: each handshake fails with that
   // probability instead (at `step`, or at a random step when step is None).
-  FailPlan(FailStep step, std::vector<std::uint64_t> only_on, double rate,
-           std::uint64_t seed);
+  FailPlan(FailStep step, std::vector<std::uint64_t> only_on, double rate, std::uint64_t seed);
 
   // Decision for handshake number n (1-based); call once per handshake, in order.
   FailDecision decide(std::uint64_t n);

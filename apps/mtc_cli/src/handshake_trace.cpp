@@ -8,24 +8,36 @@ namespace mtc::cli {
 
 std::string_view to_string(Result r) {
   switch (r) {
-    case Result::Complete: return "COMPLETE";
-    case Result::Fail: return "FAIL";
-    case Result::Timeout: return "TIMEOUT";
-    case Result::CommsLost: return "COMMS_LOST";
-    case Result::NotReady: return "NOT_READY";
-    case Result::Interrupted: return "INTERRUPTED";
+    case Result::Complete:
+      return "COMPLETE";
+    case Result::Fail:
+      return "FAIL";
+    case Result::Timeout:
+      return "TIMEOUT";
+    case Result::CommsLost:
+      return "COMMS_LOST";
+    case Result::NotReady:
+      return "NOT_READY";
+    case Result::Interrupted:
+      return "INTERRUPTED";
   }
   return "FAIL";
 }
 
 int exit_code(Result r) {
   switch (r) {
-    case Result::Complete: return kExitOk;
-    case Result::Fail: return kExitFail;
-    case Result::Timeout: return kExitTimeout;
-    case Result::CommsLost: return kExitCommsLost;
-    case Result::NotReady: return kExitNotReady;
-    case Result::Interrupted: return kExitInterrupted;
+    case Result::Complete:
+      return kExitOk;
+    case Result::Fail:
+      return kExitFail;
+    case Result::Timeout:
+      return kExitTimeout;
+    case Result::CommsLost:
+      return kExitCommsLost;
+    case Result::NotReady:
+      return kExitNotReady;
+    case Result::Interrupted:
+      return kExitInterrupted;
   }
   return kExitError;
 }
@@ -38,7 +50,8 @@ void HandshakeTrace::begin(std::uint64_t n, core::Service service) {
 }
 
 double HandshakeTrace::elapsed_ms() const {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_)
+      .count();
 }
 
 std::string HandshakeTrace::side(bool own) const {
@@ -53,21 +66,28 @@ void HandshakeTrace::transition(bool own, const LinkEvent& e) {
   const std::string state(core::to_string(e.state));
   if (json_) {
     JsonLine line;
-    line.field("event", "transition").field("handshake", n_).field("service", core::to_string(e.service))
-        .field("side", side(own)).field("state", state).field("t_ms", t);
-    if (!own) line.field("latency_ms", static_cast<double>(latency) / 1e6).field("source_time_ns", e.source_time_ns);
+    line.field("event", "transition")
+        .field("handshake", n_)
+        .field("service", core::to_string(e.service))
+        .field("side", side(own))
+        .field("state", state)
+        .field("t_ms", t);
+    if (!own)
+      line.field("latency_ms", static_cast<double>(latency) / 1e6)
+          .field("source_time_ns", e.source_time_ns);
     out_.line(line.field("time_ns", e.reception_time_ns).str());
     return;
   }
   char buf[160];
   if (!active()) {
-    std::snprintf(buf, sizeof buf, "  idle                     %-8s -> %-10s", side(own).c_str(), state.c_str());
+    std::snprintf(buf, sizeof buf, "  idle                     %-8s -> %-10s", side(own).c_str(),
+                  state.c_str());
   } else if (waiting_) {
-    std::snprintf(buf, sizeof buf, "  #%-4llu (waiting)          %-8s -> %-10s", static_cast<unsigned long long>(n_),
-                  side(own).c_str(), state.c_str());
+    std::snprintf(buf, sizeof buf, "  #%-4llu (waiting)          %-8s -> %-10s",
+                  static_cast<unsigned long long>(n_), side(own).c_str(), state.c_str());
   } else {
-    std::snprintf(buf, sizeof buf, "  #%-4llu +%10.3f ms      %-8s -> %-10s", static_cast<unsigned long long>(n_), t,
-                  side(own).c_str(), state.c_str());
+    std::snprintf(buf, sizeof buf, "  #%-4llu +%10.3f ms      %-8s -> %-10s",
+                  static_cast<unsigned long long>(n_), t, side(own).c_str(), state.c_str());
   }
   std::string text = buf;
   text += "  " + std::string(core::to_string(e.service));
@@ -88,8 +108,12 @@ void HandshakeTrace::outcome(Result result, const std::string& reason) {
   const auto completed = first_ms(role_ == core::Role::Responder, core::InteractionState::Complete);
   if (json_) {
     JsonLine line;
-    line.field("event", "outcome").field("handshake", n_).field("service", core::to_string(service_))
-        .field("result", to_string(result)).field("reason", reason).field("total_ms", total);
+    line.field("event", "outcome")
+        .field("handshake", n_)
+        .field("service", core::to_string(service_))
+        .field("result", to_string(result))
+        .field("reason", reason)
+        .field("total_ms", total);
     if (accepted) line.field("response_active_ms", *accepted);
     if (completed) line.field("response_complete_ms", *completed);
     out_.line(line.str());
@@ -100,7 +124,8 @@ void HandshakeTrace::outcome(Result result, const std::string& reason) {
                 static_cast<unsigned long long>(n_), std::string(core::to_string(service_)).c_str(),
                 std::string(to_string(result)).c_str(), total);
   std::string text = buf;
-  if (accepted) text += ", response ACTIVE at +" + format_ms(static_cast<std::int64_t>(*accepted * 1e6));
+  if (accepted)
+    text += ", response ACTIVE at +" + format_ms(static_cast<std::int64_t>(*accepted * 1e6));
   if (completed) text += ", COMPLETE at +" + format_ms(static_cast<std::int64_t>(*completed * 1e6));
   if (!reason.empty()) text += " (" + reason + ")";
   out_.line(text);
@@ -109,8 +134,11 @@ void HandshakeTrace::outcome(Result result, const std::string& reason) {
 void HandshakeTrace::note(const std::string& event, const std::string& detail) {
   if (json_) {
     JsonLine line;
-    out_.line(line.field("event", event).field("handshake", n_).field("detail", detail)
-                  .field("time_ns", now_ns()).str());
+    out_.line(line.field("event", event)
+                  .field("handshake", n_)
+                  .field("detail", detail)
+                  .field("time_ns", now_ns())
+                  .str());
   } else {
     out_.line("  #" + std::to_string(n_) + " " + event + ": " + detail);
   }

@@ -20,7 +20,8 @@ int exit_code(Result r);
 
 class HandshakeTrace {
  public:
-  HandshakeTrace(Output& out, bool json, core::Role own_role) : out_(out), json_(json), role_(own_role) {}
+  HandshakeTrace(Output& out, bool json, core::Role own_role)
+      : out_(out), json_(json), role_(own_role) {}
 
   // Starts a new handshake (number n) now.
   void begin(std::uint64_t n, core::Service service);

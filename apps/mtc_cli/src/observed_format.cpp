@@ -4,10 +4,14 @@ namespace mtc::cli {
 
 std::string_view to_string(dds::ItemKind kind) {
   switch (kind) {
-    case dds::ItemKind::Interaction: return "interaction";
-    case dds::ItemKind::InterfaceState: return "interface_state";
-    case dds::ItemKind::DoorState: return "door_state";
-    case dds::ItemKind::ChuckState: return "chuck_state";
+    case dds::ItemKind::Interaction:
+      return "interaction";
+    case dds::ItemKind::InterfaceState:
+      return "interface_state";
+    case dds::ItemKind::DoorState:
+      return "door_state";
+    case dds::ItemKind::ChuckState:
+      return "chuck_state";
   }
   return "interaction";
 }
@@ -19,9 +23,15 @@ dds::DomainObserverOptions observer_options(const CommonOptions& common, const P
   o.qos_profile = common.qos_profile;
   o.device_filter = args.values("device");
   switch (s.transport) {
-    case TransportChoice::Loopback: o.transport = qos::Transport::Loopback; break;
-    case TransportChoice::LoopbackUdp: o.transport = qos::Transport::LoopbackUdp; break;
-    case TransportChoice::Builtin: o.transport = qos::Transport::Builtin; break;
+    case TransportChoice::Loopback:
+      o.transport = qos::Transport::Loopback;
+      break;
+    case TransportChoice::LoopbackUdp:
+      o.transport = qos::Transport::LoopbackUdp;
+      break;
+    case TransportChoice::Builtin:
+      o.transport = qos::Transport::Builtin;
+      break;
   }
   o.timing.heartbeat = s.heartbeat;
   o.timing.missed_heartbeats = s.missed_heartbeats;
@@ -35,9 +45,12 @@ std::string item_label(const dds::ObservedValue& v) {
       if (v.sub_type) label += " " + std::string(core::to_string(*v.sub_type));
       return label;
     }
-    case dds::ItemKind::InterfaceState: return "INTERFACE_STATE";
-    case dds::ItemKind::DoorState: return "DOOR_STATE";
-    case dds::ItemKind::ChuckState: return "CHUCK_STATE";
+    case dds::ItemKind::InterfaceState:
+      return "INTERFACE_STATE";
+    case dds::ItemKind::DoorState:
+      return "DOOR_STATE";
+    case dds::ItemKind::ChuckState:
+      return "CHUCK_STATE";
   }
   return v.data_item_id;
 }

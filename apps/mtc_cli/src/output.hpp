@@ -15,11 +15,17 @@ namespace mtc::cli {
 class JsonLine {
  public:
   JsonLine& field(std::string_view key, std::string_view value);
-  JsonLine& field(std::string_view key, const char* value) { return field(key, std::string_view(value)); }
-  JsonLine& field(std::string_view key, const std::string& value) { return field(key, std::string_view(value)); }
+  JsonLine& field(std::string_view key, const char* value) {
+    return field(key, std::string_view(value));
+  }
+  JsonLine& field(std::string_view key, const std::string& value) {
+    return field(key, std::string_view(value));
+  }
   JsonLine& field(std::string_view key, std::int64_t value);
   JsonLine& field(std::string_view key, std::uint64_t value);
-  JsonLine& field(std::string_view key, int value) { return field(key, static_cast<std::int64_t>(value)); }
+  JsonLine& field(std::string_view key, int value) {
+    return field(key, static_cast<std::int64_t>(value));
+  }
   JsonLine& field(std::string_view key, double value);
   JsonLine& field(std::string_view key, bool value);
   JsonLine& null_field(std::string_view key);

@@ -8,10 +8,13 @@ namespace {
 using core::InteractionState;
 using Clock = std::chrono::steady_clock;
 
-bool idle(InteractionState s) { return s == InteractionState::Ready || s == InteractionState::NotReady; }
+bool idle(InteractionState s) {
+  return s == InteractionState::Ready || s == InteractionState::NotReady;
+}
 }  // namespace
 
-RequestRunner::RequestRunner(RequestConfig config, Context& context, EquipmentLink& link, EventQueue& events)
+RequestRunner::RequestRunner(RequestConfig config, Context& context, EquipmentLink& link,
+                             EventQueue& events)
     : config_(std::move(config)),
       context_(context),
       link_(link),
@@ -56,9 +59,11 @@ bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
       if (!event.detail.empty()) context_.err.line("mtc request: " + event.detail);
       break;
     case LinkEvent::Kind::RequestObserved:
-    case LinkEvent::Kind::Aborted: break;
+    case LinkEvent::Kind::Aborted:
+      break;
   }
-  if (event.reason != core::Reason::None && event.notice != core::Notice::Rejected) last_reason_ = event.reason;
+  if (event.reason != core::Reason::None && event.notice != core::Notice::Rejected)
+    last_reason_ = event.reason;
   return true;
 }
 
@@ -119,7 +124,8 @@ bool RequestRunner::close_cycle(TimePoint deadline) {
   while (!(idle(own_) && idle(peer_) && !peer_lost_)) {
     if (own_ == InteractionState::Fail) try_recover();
     auto wake = deadline;
-    const auto retry = failed_at_ + config_.equipment.fail_ack_timeout + std::chrono::milliseconds(50);
+    const auto retry =
+        failed_at_ + config_.equipment.fail_ack_timeout + std::chrono::milliseconds(50);
     if (own_ == InteractionState::Fail && retry > Clock::now()) wake = std::min(deadline, retry);
     if (!next_event(wake, e)) {
       if (context_.shutdown.requested() || Clock::now() >= deadline) return false;
@@ -139,17 +145,24 @@ void RequestRunner::print_summary() {
   const double max = sorted.empty() ? 0 : sorted.back();
   if (config_.equipment.common.json) {
     JsonLine line;
-    line.field("event", "summary").field("count", static_cast<std::uint64_t>(results_.size()))
-        .field("complete", counts[0]).field("fail", counts[1]).field("timeout", counts[2])
-        .field("comms_lost", counts[3]).field("not_ready", counts[4]).field("p50_ms", p50).field("max_ms", max);
+    line.field("event", "summary")
+        .field("count", static_cast<std::uint64_t>(results_.size()))
+        .field("complete", counts[0])
+        .field("fail", counts[1])
+        .field("timeout", counts[2])
+        .field("comms_lost", counts[3])
+        .field("not_ready", counts[4])
+        .field("p50_ms", p50)
+        .field("max_ms", max);
     context_.out.line(line.str());
     return;
   }
-  context_.out.line(std::to_string(results_.size()) + " handshake(s): " + std::to_string(counts[0]) +
-                    " COMPLETE, " + std::to_string(counts[1]) + " FAIL, " + std::to_string(counts[2]) +
-                    " TIMEOUT, " + std::to_string(counts[3]) + " COMMS_LOST; time to COMPLETE p50 " +
-                    format_ms(static_cast<std::int64_t>(p50 * 1e6)) + ", max " +
-                    format_ms(static_cast<std::int64_t>(max * 1e6)));
+  context_.out.line(
+      std::to_string(results_.size()) + " handshake(s): " + std::to_string(counts[0]) +
+      " COMPLETE, " + std::to_string(counts[1]) + " FAIL, " + std::to_string(counts[2]) +
+      " TIMEOUT, " + std::to_string(counts[3]) + " COMMS_LOST; time to COMPLETE p50 " +
+      format_ms(static_cast<std::int64_t>(p50 * 1e6)) + ", max " +
+      format_ms(static_cast<std::int64_t>(max * 1e6)));
 }
 
 int RequestRunner::run() {
@@ -170,8 +183,9 @@ int RequestRunner::run() {
       reason = "responder not READY within --timeout";
     }
     if (result == Result::Fail && reason.empty()) {
-      reason = last_reason_ != core::Reason::None ? std::string(core::describe(last_reason_))
-                                                  : (peer_ == InteractionState::Fail ? "responder FAIL" : "request FAIL");
+      reason = last_reason_ != core::Reason::None
+                   ? std::string(core::describe(last_reason_))
+                   : (peer_ == InteractionState::Fail ? "responder FAIL" : "request FAIL");
     }
     if (result == Result::CommsLost) reason = "counterpart lost (no heartbeat within the lease)";
     trace_.outcome(result, reason);

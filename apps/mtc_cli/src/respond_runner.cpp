@@ -10,13 +10,17 @@ namespace {
 using core::InteractionState;
 using Clock = std::chrono::steady_clock;
 
-bool idle(InteractionState s) { return s == InteractionState::Ready || s == InteractionState::NotReady; }
+bool idle(InteractionState s) {
+  return s == InteractionState::Ready || s == InteractionState::NotReady;
+}
 }  // namespace
 
-RespondRunner::RespondRunner(RespondConfig config, Context& context, EquipmentLink& link, EventQueue& events)
+RespondRunner::RespondRunner(RespondConfig config, Context& context, EquipmentLink& link,
+                             EventQueue& events)
     : config_(std::move(config)), context_(context), link_(link), events_(events) {
   slots_.reserve(config_.equipment.services.size());
-  for (auto s : config_.equipment.services) slots_.emplace_back(s, context.out, config_.equipment.common.json);
+  for (auto s : config_.equipment.services)
+    slots_.emplace_back(s, context.out, config_.equipment.common.json);
 }
 
 RespondRunner::Slot* RespondRunner::slot_for(core::Service s) {
@@ -60,7 +64,8 @@ void RespondRunner::on_request(Slot& slot) {
 void RespondRunner::inject(Slot& slot) {
   const auto refused = link_.fail(slot.service);
   const std::string where = std::string(to_string(slot.decision.step));
-  slot.trace.note("inject", "response -> FAIL at " + where + (refused ? " refused: " + *refused : ""));
+  slot.trace.note("inject",
+                  "response -> FAIL at " + where + (refused ? " refused: " + *refused : ""));
   report(slot, Result::Fail, "injected FAIL at " + where);
 }
 
@@ -80,7 +85,8 @@ void RespondRunner::on_timers(Slot& slot, TimePoint now) {
 }
 
 void RespondRunner::on_event(const LinkEvent& e) {
-  if (e.kind == LinkEvent::Kind::CounterpartLost || e.kind == LinkEvent::Kind::CounterpartRestored) {
+  if (e.kind == LinkEvent::Kind::CounterpartLost ||
+      e.kind == LinkEvent::Kind::CounterpartRestored) {
     const bool lost = e.kind == LinkEvent::Kind::CounterpartLost;
     for (auto& slot : slots_) {
       if (lost) slot.peer = InteractionState::Unavailable;
@@ -108,14 +114,18 @@ void RespondRunner::on_event(const LinkEvent& e) {
     report(*slot, Result::Fail, std::string(core::describe(e.reason)));
     return;
   }
-  if (e.reason != core::Reason::None && e.notice != core::Notice::Rejected) slot->last_reason = e.reason;
+  if (e.reason != core::Reason::None && e.notice != core::Notice::Rejected)
+    slot->last_reason = e.reason;
   if (e.kind == LinkEvent::Kind::OwnState && e.state != slot->own) {
     slot->own = e.state;
     if (e.state == InteractionState::Fail) slot->failed_at = Clock::now();
     slot->trace.transition(true, e);
     if (e.state == InteractionState::Complete) report(*slot, Result::Complete, "");
     if (e.state == InteractionState::Fail) {
-      report(*slot, Result::Fail, slot->last_reason != core::Reason::None ? std::string(core::describe(slot->last_reason)) : "response FAIL");
+      report(*slot, Result::Fail,
+             slot->last_reason != core::Reason::None
+                 ? std::string(core::describe(slot->last_reason))
+                 : "response FAIL");
     }
   } else if (e.kind == LinkEvent::Kind::CounterpartState && e.state != slot->peer) {
     slot->peer = e.state;
@@ -143,7 +153,8 @@ RespondRunner::TimePoint RespondRunner::next_wake() const {
   for (const auto& slot : slots_) {
     if (slot.action_end) wake = std::min(wake, *slot.action_end);
     if (slot.fail_at) wake = std::min(wake, *slot.fail_at);
-    const auto retry = slot.failed_at + config_.equipment.fail_ack_timeout + std::chrono::milliseconds(50);
+    const auto retry =
+        slot.failed_at + config_.equipment.fail_ack_timeout + std::chrono::milliseconds(50);
     if (slot.own == InteractionState::Fail && retry > Clock::now()) wake = std::min(wake, retry);
   }
   return wake;

@@ -34,13 +34,14 @@ class RespondRunner {
  private:
   using TimePoint = std::chrono::steady_clock::time_point;
   struct Slot {
-    Slot(core::Service s, Output& out, bool json) : service(s), trace(out, json, core::Role::Responder) {}
+    Slot(core::Service s, Output& out, bool json)
+        : service(s), trace(out, json, core::Role::Responder) {}
     core::Service service;
     HandshakeTrace trace;
     core::InteractionState own = core::InteractionState::Unavailable;
     core::InteractionState peer = core::InteractionState::Unavailable;
-    bool busy = false;          // a handshake is in progress
-    bool reported = false;      // its outcome was printed
+    bool busy = false;      // a handshake is in progress
+    bool reported = false;  // its outcome was printed
     FailDecision decision;
     std::optional<TimePoint> action_end;
     std::optional<TimePoint> fail_at;
