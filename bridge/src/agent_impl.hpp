@@ -11,6 +11,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <map>
+#include <set>
 #include <mutex>
 #include <shared_mutex>
 #include <string>
@@ -102,6 +103,7 @@ class AgentImpl final : public MtconnectAgent {
   std::map<std::pair<std::string, std::string>, dds::ObservedValue> pending_;
   AgentStats stats_;
   std::unordered_map<std::string, std::string> uuid_aliases_;  // DDS uuid -> file uuid
+  std::set<std::pair<std::string, std::string>> warned_;       // unknown items reported
   std::uint64_t generation_ = 1;
   std::int64_t model_change_ns_ = 0;
 

@@ -189,16 +189,26 @@ void AgentImpl::add_device(const dds::ObservedDevice& device) {
 
 void AgentImpl::add_value(const dds::ObservedValue& value) {
   std::size_t appended = 0;
+  std::string warning;
   {
     std::unique_lock lock(data_);
     const auto item = resolve_value(value);
     if (!item) {
       ++stats_.unknown_values;
       stats_.last_unknown = value.device_uuid + "/" + value.data_item_id;
-      if (!from_file_ && (pending_.size() < kMaxPending ||
-                          pending_.count({value.device_uuid, value.data_item_id}))) {
-        pending_[{value.device_uuid, value.data_item_id}] = value;
+      const std::pair<std::string, std::string> key{value.device_uuid, value.data_item_id};
+      if (!from_file_ && (pending_.size() < kMaxPending || pending_.count(key))) {
+        pending_[key] = value;  // applied if an announcement brings the item
       }
+      if (from_file_ && options_.on_warning && warned_.size() < kMaxPending &&
+          warned_.insert(key).second) {
+        warning = "value for " + stats_.last_unknown + " dropped: no such DataItem in " +
+                  options_.devices_file;
+      }
+    }
+    if (!item) {
+      lock.unlock();
+      if (!warning.empty()) options_.on_warning(warning);
       return;
     }
     const std::uint64_t before = buffer_.next_sequence();

@@ -8,6 +8,7 @@
 //   /assets    /{device}/assets  /asset(s)/{id}  MTConnectAssets (always empty)
 // Status codes follow the reference agent: parameter errors 400, unknown
 // device 404, unknown route 404, methods other than GET/HEAD 405.
+#include <algorithm>
 #include <chrono>
 
 #include "agent_impl.hpp"
@@ -59,7 +60,9 @@ HeaderInfo AgentImpl::header() const {
   h.sender = options_.sender;
   h.buffer_size = buffer_.capacity();
   h.first_sequence = buffer_.first_sequence();
-  h.last_sequence = buffer_.last_sequence();
+  // The schemas require lastSequence >= 1; before the first observation
+  // (no device announced yet) report 1 rather than an invalid 0.
+  h.last_sequence = std::max<std::uint64_t>(1, buffer_.last_sequence());
   h.next_sequence = buffer_.next_sequence();
   h.model_change_time_ns = model_change_ns_;
   h.creation_time_ns = now_ns();

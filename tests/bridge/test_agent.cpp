@@ -136,10 +136,15 @@ TEST(Agent, NewAnnouncementsRebuildTheModel) {
 TEST(Agent, DevicesFileItemsNeverReceivedStayUnavailable) {
   AgentOptions o = test::cell_options();
   o.devices_file = test::devices_file("cell_1.6.xml");
+  std::vector<std::string> warnings;
+  o.on_warning = [&](const std::string& w) { warnings.push_back(w); };
   auto agent = make_agent(o);
   agent->add_device(test::cell_machine());
   agent->add_value(value("cell-machine", "material_handler_material_load_request", "READY", kT0));
   agent->add_value(value("cell-machine", "not.in.file", "READY", kT0));
+  agent->add_value(value("cell-machine", "not.in.file", "ACTIVE", kT0));
+  ASSERT_EQ(warnings.size(), 1u);  // once per item
+  EXPECT_NE(warnings[0].find("cell-machine/not.in.file"), std::string::npos);
   Doc d(get(*agent, "/current").body);
   EXPECT_EQ(d.text("//MaterialLoad[@dataItemId='machine_material_handler_material_load_request']"),
             "READY");
@@ -148,7 +153,7 @@ TEST(Agent, DevicesFileItemsNeverReceivedStayUnavailable) {
   EXPECT_EQ(d.count("//Condition/Unavailable[@dataItemId='machine_system'][@type='SYSTEM']"), 1u);
   EXPECT_EQ(d.text("//DeviceStream[@name='machine']//Availability"), "AVAILABLE");
   EXPECT_EQ(d.text("//DeviceStream[@name='robot']//Availability"), "UNAVAILABLE");
-  EXPECT_EQ(agent->stats().unknown_values, 1u);
+  EXPECT_EQ(agent->stats().unknown_values, 2u);
   // The file's version is used when none is forced.
   AgentOptions o13;
   o13.devices_file = test::devices_file("cell_1.3.xml");

@@ -189,6 +189,13 @@ INSTANTIATE_TEST_SUITE_P(Versions, SchemaValidation,
 namespace mtc::bridge {
 namespace {
 
+TEST(SchemaValidationEmpty, StreamsBeforeAnyDeviceValidate) {
+  auto agent = make_agent(test::cell_options(SchemaVersion::V1_6));
+  const Lint lint = xmllint(test::get(*agent, "/current").body,
+                            schema("MTConnectStreams", SchemaVersion::V1_6));
+  EXPECT_EQ(lint.exit_code, 0) << lint.output;
+}
+
 // 1.8: the official XSDs lack the interfaces (README of the schemas), so
 // only the documents that do not describe them are checked.
 TEST(SchemaValidation18, ErrorAndBareDocumentsValidate) {

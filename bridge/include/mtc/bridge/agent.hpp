@@ -50,7 +50,9 @@ class Agent {
 
   // Next part of a stream: the document for observations from
   // plan.next_sequence on (advancing it), or, when there are none, an empty
-  // (heartbeat) sample document. Never throws.
+  // (heartbeat) sample document. Never throws. A part whose status is not 200
+  // is an MTConnectError (e.g. OUT_OF_RANGE: the stream fell behind the
+  // buffer): write it, then end the stream.
   virtual Response next_part(StreamPlan& plan) noexcept = 0;
 
   // Sequence number the next observation will take; lets a stream wait.

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -63,6 +64,10 @@ struct AgentOptions {
   std::uint64_t instance_id = 0;
   // Largest count a /sample may ask for; 0 = buffer_size.
   std::size_t max_count = 0;
+  // Told (once per item, on the ingest thread, no lock held) about values
+  // the model has no item for, e.g. "value for cell-machine/foo dropped: no
+  // such DataItem in cell.xml". Empty: silent (stats() still counts).
+  std::function<void(const std::string&)> on_warning;
 };
 
 // Ingest counters, for logs and tests.
