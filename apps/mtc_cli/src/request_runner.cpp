@@ -136,13 +136,24 @@ bool RequestRunner::close_cycle(TimePoint deadline) {
   return true;
 }
 
+namespace {
+// Nearest-rank percentile of an unsorted sample (0 when empty).
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(p / 100.0 * static_cast<double>(v.size() - 1) + 0.5);
+  return v[std::min(rank, v.size() - 1)];
+}
+}  // namespace
+
 void RequestRunner::print_summary() {
   std::uint64_t counts[6] = {0, 0, 0, 0, 0, 0};
   for (auto r : results_) ++counts[static_cast<int>(r)];
-  std::vector<double> sorted = complete_ms_;
-  std::sort(sorted.begin(), sorted.end());
-  const double p50 = sorted.empty() ? 0 : sorted[sorted.size() / 2];
-  const double max = sorted.empty() ? 0 : sorted.back();
+  const double p50 = percentile(complete_ms_, 50);
+  const double p99 = percentile(complete_ms_, 99);
+  const double max = percentile(complete_ms_, 100);
+  const double accept_p50 = percentile(accept_ms_, 50);
+  const double accept_p99 = percentile(accept_ms_, 99);
   if (config_.equipment.common.json) {
     JsonLine line;
     line.field("event", "summary")
@@ -153,7 +164,10 @@ void RequestRunner::print_summary() {
         .field("comms_lost", counts[3])
         .field("not_ready", counts[4])
         .field("p50_ms", p50)
-        .field("max_ms", max);
+        .field("p99_ms", p99)
+        .field("max_ms", max)
+        .field("response_active_p50_ms", accept_p50)
+        .field("response_active_p99_ms", accept_p99);
     context_.out.line(line.str());
     return;
   }
@@ -161,8 +175,11 @@ void RequestRunner::print_summary() {
       std::to_string(results_.size()) + " handshake(s): " + std::to_string(counts[0]) +
       " COMPLETE, " + std::to_string(counts[1]) + " FAIL, " + std::to_string(counts[2]) +
       " TIMEOUT, " + std::to_string(counts[3]) + " COMMS_LOST; time to COMPLETE p50 " +
-      format_ms(static_cast<std::int64_t>(p50 * 1e6)) + ", max " +
-      format_ms(static_cast<std::int64_t>(max * 1e6)));
+      format_ms(static_cast<std::int64_t>(p50 * 1e6)) + ", p99 " +
+      format_ms(static_cast<std::int64_t>(p99 * 1e6)) + ", max " +
+      format_ms(static_cast<std::int64_t>(max * 1e6)) + "; request ACTIVE -> response ACTIVE p50 " +
+      format_ms(static_cast<std::int64_t>(accept_p50 * 1e6)) + ", p99 " +
+      format_ms(static_cast<std::int64_t>(accept_p99 * 1e6)));
 }
 
 int RequestRunner::run() {
@@ -190,7 +207,10 @@ int RequestRunner::run() {
     if (result == Result::CommsLost) reason = "counterpart lost (no heartbeat within the lease)";
     trace_.outcome(result, reason);
     results_.push_back(result);
-    if (result == Result::Complete) complete_ms_.push_back(trace_.elapsed_ms());
+    if (result == Result::Complete) {
+      complete_ms_.push_back(trace_.elapsed_ms());
+      if (auto a = trace_.first_ms(false, InteractionState::Active)) accept_ms_.push_back(*a);
+    }
     if (code == 0) code = exit_code(result);
     const bool more = n < config_.count && (config_.keep_going || result == Result::Complete);
     if (result == Result::Interrupted) break;

@@ -56,7 +56,8 @@ class RequestRunner {
   core::Reason last_reason_ = core::Reason::None;
   TimePoint failed_at_{};
   std::vector<Result> results_;
-  std::vector<double> complete_ms_;
+  std::vector<double> complete_ms_;  // request issued -> COMPLETE seen
+  std::vector<double> accept_ms_;    // request issued -> response ACTIVE seen
 };
 
 }  // namespace mtc::cli
