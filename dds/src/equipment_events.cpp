@@ -149,6 +149,17 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
       handle_result(slot, machine->on_counterpart(core::InteractionState::Active, now),
                     v.source_time_ns, v.reception_time_ns);
     }
+    // We sit in an unacknowledged FAIL and the counterpart shows READY /
+    // NOT_READY after a skipped change: it can only have got there through
+    // FAIL (e.g. its FAIL was replaced while we were cut off), so replay it.
+    const bool idle_value = *parsed == core::InteractionState::Ready ||
+                            *parsed == core::InteractionState::NotReady;
+    if (missed_change && idle_value && slot.options.counterpart_has_fail &&
+        machine->state() == core::InteractionState::Fail && !machine->fail_acknowledged() &&
+        machine->counterpart() != core::InteractionState::Fail) {
+      handle_result(slot, machine->on_counterpart(core::InteractionState::Fail, now),
+                    v.source_time_ns, v.reception_time_ns);
+    }
     r = machine->on_counterpart(*parsed, now);
   }
   handle_result(slot, r, v.source_time_ns, v.reception_time_ns);

@@ -251,30 +251,31 @@ void EquipmentImpl::heartbeat(SteadyClock::time_point now) {
 }
 
 // Graceful leave: disposing every instance lets peers see our items
-// UNAVAILABLE at once instead of after a lease.
+// UNAVAILABLE at once instead of after a lease. Each disposal is attempted
+// even if another fails (a destructor must finish).
 void EquipmentImpl::dispose_all() noexcept {
-  try {
-    const auto now_ns = topics::realtime_ns();
-    for (auto& itf : interfaces) {
-      for (auto index : itf->services) {
-        auto& slot = *slots[index];
-        const bool request = slot.role == core::Role::Requester;
-        idl::InteractionSample s;
-        fill_common(s, options.device_uuid, itf->config.id, slot.item, 0);
-        s.source_time_ns(now_ns);
-        (request ? request_writer : response_writer)->dispose(s);
-      }
-      idl::InterfaceStateSample s;
-      fill_common(s, options.device_uuid, itf->config.id, itf->state_item, 0);
-      interface_writer->dispose(s);
+  auto attempt = [this](auto&& fn) {
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": " << e.what() << '\n';
     }
-    idl::DeviceDescription d;
-    d.device_uuid(options.device_uuid);
-    description_writer->dispose(d);
-  } catch (const std::exception& e) {
-    std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": dispose failed: " << e.what()
-              << '\n';
+  };
+  for (auto& itf : interfaces) {
+    for (auto index : itf->services) {
+      auto& slot = *slots[index];
+      const bool request = slot.role == core::Role::Requester;
+      idl::InteractionSample s;
+      fill_common(s, options.device_uuid, itf->config.id, slot.item, 0);
+      attempt([&] { (request ? request_writer : response_writer)->dispose(s); });
+    }
+    idl::InterfaceStateSample s;
+    fill_common(s, options.device_uuid, itf->config.id, itf->state_item, 0);
+    attempt([&] { interface_writer->dispose(s); });
   }
+  idl::DeviceDescription d;
+  d.device_uuid(options.device_uuid);
+  attempt([&] { description_writer->dispose(d); });
 }
 
 }  // namespace mtc::dds

@@ -55,14 +55,41 @@ class Recorder {
     std::lock_guard<std::mutex> lock(mutex_);
     return links_;
   }
+  // Everything seen, for failure messages.
+  std::string dump() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::string out;
+    for (const auto& l : links_) {
+      out += "  link " + l.interface_id + " " + std::string(to_string(l.previous)) + " -> " +
+             std::string(to_string(l.current)) + " (" + l.cause + ")\n";
+    }
+    for (const auto& e : transitions_) {
+      out += "  " + std::string(core::to_string(e.step.service)) + "/" +
+             std::string(core::to_string(e.step.role)) + " " +
+             std::string(core::to_string(e.step.event)) + ": " +
+             std::string(core::to_string(e.step.previous)) + " -> " +
+             std::string(core::to_string(e.step.current)) + " " +
+             std::string(core::to_string(e.step.notice)) + "/" +
+             std::string(core::to_string(e.step.reason)) + "\n";
+    }
+    for (const auto& d : diagnostics_) out += "  diag " + d + "\n";
+    return out;
+  }
   bool saw_notice(core::Notice n, core::Reason r) {
     std::lock_guard<std::mutex> lock(mutex_);
+    return saw_notice_locked(n, r);
+  }
+  bool wait_notice(core::Notice n, core::Reason r, std::chrono::milliseconds timeout = kTimeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, timeout, [&] { return saw_notice_locked(n, r); });
+  }
+
+ private:
+  bool saw_notice_locked(core::Notice n, core::Reason r) const {
     return std::any_of(transitions_.begin(), transitions_.end(), [&](const TransitionEvent& e) {
       return e.step.notice == n && e.step.reason == r;
     });
   }
-
- private:
   template <typename Fn>
   void add(Fn fn) {
     {

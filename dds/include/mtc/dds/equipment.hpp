@@ -101,8 +101,18 @@ struct InterfaceConfig {
   core::ChuckState initial_chuck_state = core::ChuckState::Unavailable;
 };
 
+// Time limits an Equipment uses unless told otherwise: as core's defaults,
+// plus fail_ack = 2 s so that a FAIL whose acknowledgement was lost (the
+// counterpart's FAIL replaced by READY while we were cut off) cannot pin a
+// side in FAIL forever: after 2 s recovery no longer waits for it.
+inline core::TimeLimits default_time_limits() {
+  core::TimeLimits l{};
+  l.fail_ack = std::chrono::seconds(2);
+  return l;
+}
+
 struct ServiceOptions {
-  core::TimeLimits limits{};
+  core::TimeLimits limits = default_time_limits();
   bool start_ready = true;
   bool counterpart_has_fail = true;
   // Responder: accept an observed request at once (when permitted) and then
