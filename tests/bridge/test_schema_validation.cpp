@@ -13,6 +13,9 @@
 //   document with an open door fails on exactly that value.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -50,6 +53,9 @@ Lint xmllint(const std::string& body, const std::string& schema) {
   std::ostringstream text;
   text << in.rdbuf();
   lint.output = text.str();
+  std::error_code ignored;
+  fs::remove(doc, ignored);
+  fs::remove(out, ignored);
   return lint;
 }
 
