@@ -10,7 +10,7 @@
 //   69 SIGKILL responder      70 responder restarted    71 SIGSTOP requester
 //   72 packet loss            73 watch                  74 list
 //   75 signals                76 fail rate + seed       77 request timeout
-//   78 respond --count        79 free (manual experiments)
+//   78 respond --count        79 watch --duration, responder without --counterpart
 #pragma once
 
 #include <gtest/gtest.h>

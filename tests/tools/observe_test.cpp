@@ -56,6 +56,25 @@ TEST(Watch, ShowsTransitionsWithLatencyAndUnavailableOnLoss) {
   EXPECT_EQ(watch->wait_exit(kStartTimeout), 0) << watch->transcript();
 }
 
+TEST(Watch, EndsAfterDurationAndResponderPairsWithoutCounterpart) {
+  constexpr int kDomain = 79;
+  const auto started = Clock::now();
+  auto watch = start_mtc("watch", kDomain, {"--duration", "2s"});
+  ASSERT_TRUE(watch->wait_for_line({"\"event\":\"watching\""}, kStartTimeout))
+      << watch->transcript();
+  // No --counterpart: the responder pairs with the first requester of its
+  // interface type that shows up.
+  auto responder = start_responder(kDomain, {"--device", "machine-1", "--interface", "mh",
+                                             "--service", "MATERIAL_UNLOAD", "--action-ms", "0"});
+  auto requester = start_mtc("request", kDomain,
+                             {"--device", "robot-1", "--interface", "mh", "--service",
+                              "MATERIAL_UNLOAD", "--counterpart", "machine-1", "--timeout", "30s"});
+  ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 0) << requester->transcript();
+  // The watch stops by itself once its duration has passed, and not before.
+  ASSERT_EQ(watch->wait_exit(kStartTimeout), 0) << watch->transcript();
+  EXPECT_GE(std::chrono::duration_cast<milliseconds>(Clock::now() - started).count(), 2000);
+}
+
 TEST(List, FindsDevicesInterfacesAndCurrentValues) {
   constexpr int kDomain = 74;
   auto responder =
