@@ -2,6 +2,8 @@
 // XPath on the parsed XML.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "bridge_test_util.hpp"
 
 namespace mtc::bridge {
@@ -258,6 +260,28 @@ TEST(Agent, PathFiltersStreams) {
   Doc c(get(*agent, "/current?path=//DoorInterface").body);
   EXPECT_EQ(c.count("//ComponentStream"), 1u);
   EXPECT_EQ(c.count("//ComponentStream/Events/*"), 4u);
+}
+
+TEST(Agent, PrettyOutputCarriesTheSameDocument) {
+  auto agent = test::announced_cell();
+  const std::string raw = get(*agent, "/mill/current").body;
+  const std::string pretty = get(*agent, "/mill/current?pretty=true").body;
+  EXPECT_GT(std::count(pretty.begin(), pretty.end(), '\n'), 10);
+  EXPECT_EQ(Doc(raw).count("//Events/*"), Doc(pretty).count("//Events/*"));
+}
+
+TEST(Agent, CurrentAtWithPathAfterWrapAround) {
+  auto agent = test::announced_cell(SchemaVersion::V1_6, 40);
+  std::uint64_t seq_of_third = 0;
+  for (int i = 0; i < 100; ++i) {
+    agent->add_value(value("mill-0001", "mill.open_chuck.rsp", "V" + std::to_string(i), kT0 + i));
+    if (i == 90) seq_of_third = agent->next_sequence() - 1;
+  }
+  Doc d(get(*agent, "/current?at=" + std::to_string(seq_of_third) +
+                        "&path=//DataItem[@type='OPEN_CHUCK']").body);
+  ASSERT_EQ(d.count("//OpenChuck"), 2u);  // mill's and robot's
+  EXPECT_EQ(d.text("//OpenChuck[@dataItemId='mill.open_chuck.rsp']"), "V90");
+  EXPECT_EQ(d.text("//OpenChuck[@dataItemId='robot.open_chuck.req']"), "UNAVAILABLE");
 }
 
 TEST(Agent, AssetsIsAnEmptyDocument) {
