@@ -19,4 +19,7 @@ struct EquipmentBenchOptions {
 // Empty when the runtime is not built into this benchmark.
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options);
 
+// The forked responder of the two-process series: runs until SIGTERM.
+int run_equipment_peer(int domain, bool udp_only);
+
 }  // namespace mtc::bench

@@ -2,7 +2,8 @@
 // transition and handshake latencies, measured in one run on one machine.
 // Prints one JSON object on stdout (and to --out FILE); progress on stderr.
 //
-// Domain ids 100-107 (benchmarks own 100+, see the test registry).
+// Domain ids 100-106 (benchmarks and the cell own 100-119; the cell runs on
+// 110, its tests on 111-113).
 // Must run inside the loopback-only namespace: benchmarks/run.sh does that.
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -38,7 +39,8 @@ struct Options {
   std::string out;
   bool raw = true;
   bool equipment = true;
-  bool peer = false;  // internal: this process is the forked ponger
+  bool peer = false;            // internal: this process is the forked ponger
+  bool equipment_peer = false;  // internal: the forked responder equipment
   Transport transport = Transport::UdpLoopback;
   int domain = 100;
 };
@@ -63,6 +65,8 @@ bool parse_args(int argc, char** argv, Options& o) {
     const bool has_value = i + 1 < argc;
     if (a == "--peer") {
       o.peer = true;
+    } else if (a == "--equipment-peer") {
+      o.equipment_peer = true;
     } else if (a == "--samples" && has_value) {
       if (!parse_int(argv[++i], o.samples) || o.samples == 0) return false;
     } else if (a == "--warmup" && has_value) {
@@ -214,6 +218,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (o.equipment_peer) {
+      return mtc::bench::run_equipment_peer(o.domain, o.transport == Transport::UdpLoopback);
+    }
     return o.peer ? run_peer(o) : run(o);
   } catch (const std::exception& e) {
     std::cerr << "mtc-bench-dds-latency: " << e.what() << "\n";

@@ -1,0 +1,257 @@
+// Transition and handshake latency through mtc::dds::Equipment.
+//
+// A requester device ("bench-requester") asks a responder device
+// ("bench-responder") for MATERIAL_LOAD over and over; the responder accepts
+// at once (auto_accept) and completes in its on_request callback, so every
+// figure is protocol and middleware cost, no simulated work.
+//   transition: for each change of the responder's RESPONSE (ACTIVE,
+//               COMPLETE, READY), the responder's source time of the change
+//               until the requester's executor applied it to its state
+//               machine (TransitionEvent step_time_ns - trigger_source_time_ns;
+//               both CLOCK_REALTIME on one host).
+//   handshake:  request() called until the requester has seen the response
+//               back at READY: Table 1 steps 1-8, both sides READY.
+// The responder runs in this process (two participants, intra-process
+// delivery) or in a forked peer process over SHM+UDP or UDP only.
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <condition_variable>
+#include <iostream>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "equipment_latency.hpp"
+#include "mtc/dds/equipment.hpp"
+#include "mtc/dds/topics.hpp"
+
+namespace mtc::bench {
+namespace {
+
+using core::InteractionState;
+using core::Service;
+using namespace std::chrono_literals;
+
+constexpr const char* kRequester = "bench-requester";
+constexpr const char* kResponder = "bench-responder";
+constexpr const char* kInterface = "mh";
+
+dds::EquipmentOptions equipment_options(const char* uuid, int domain, qos::Transport t) {
+  dds::EquipmentOptions o;
+  o.domain_id = domain;
+  o.device_uuid = uuid;
+  o.transport = t;
+  // Every FAIL (e.g. a false comms-loss alarm on a loaded machine) clears
+  // itself, so one bad handshake cannot stall the run; it is counted.
+  o.recovery = dds::RecoveryPolicy::Always;
+  return o;
+}
+
+dds::InterfaceConfig interface_to(const char* peer) {
+  dds::InterfaceConfig c;
+  c.id = kInterface;
+  c.type = core::InterfaceType::MaterialHandler;
+  c.counterpart = {peer, kInterface};
+  return c;
+}
+
+// The responder device; completes every request from its callback.
+std::unique_ptr<dds::Equipment> make_responder(int domain, qos::Transport t) {
+  auto e = std::make_unique<dds::Equipment>(equipment_options(kResponder, domain, t));
+  e->add_interface(interface_to(kRequester));
+  dds::ResponderCallbacks cb;
+  cb.on_request = [](dds::Responder& r) { r.complete(); };  // never wait inside a callback
+  e->add_responder(kInterface, Service::MaterialLoad, cb);
+  e->start();
+  return e;
+}
+
+// What the requester's executor reports, handed to the benchmark thread.
+class Probe {
+ public:
+  dds::EquipmentCallbacks callbacks() {
+    dds::EquipmentCallbacks cb;
+    cb.on_transition = [this](const dds::TransitionEvent& e) { on_transition(e); };
+    cb.on_counterpart_value = [this](const dds::ObservedValue& v) { on_value(v); };
+    return cb;
+  }
+
+  void arm() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ready_seen_ns_ = 0;
+    completed_ = false;
+    transitions_.clear();
+  }
+
+  // Waits for the requester to see the response back at READY after COMPLETE.
+  std::int64_t wait_both_ready(std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    cv_.wait_for(lock, timeout, [&] { return ready_seen_ns_ != 0; });
+    return ready_seen_ns_;
+  }
+
+  std::vector<double> take_transitions() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::move(transitions_);
+  }
+
+ private:
+  // Response ACTIVE and COMPLETE change the requester's machine: timed from
+  // its TransitionEvent.
+  void on_transition(const dds::TransitionEvent& e) {
+    const auto event = e.step.event;
+    const bool seen = event == core::Event::SeenActive || event == core::Event::SeenComplete;
+    if (!seen || e.trigger_source_time_ns == 0) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    transitions_.push_back(static_cast<double>(e.step_time_ns - e.trigger_source_time_ns) /
+                           1000.0);
+    if (event == core::Event::SeenComplete) completed_ = true;
+  }
+
+  // The response's return to READY (step 8) leaves the requester's machine
+  // as it is, so no TransitionEvent: it is timed when the executor hands
+  // the new value to the application, the same point in the pipeline.
+  void on_value(const dds::ObservedValue& v) {
+    if (v.kind != dds::ItemKind::Interaction || v.heartbeat_count != 0 || v.value != "READY") {
+      return;
+    }
+    const auto now = dds::topics::realtime_ns();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!completed_ || ready_seen_ns_ != 0) return;
+      transitions_.push_back(static_cast<double>(now - v.source_time_ns) / 1000.0);
+      ready_seen_ns_ = now;
+    }
+    cv_.notify_all();
+  }
+
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<double> transitions_;
+  std::int64_t ready_seen_ns_ = 0;
+  bool completed_ = false;
+};
+
+struct PairRun {
+  Series transition;
+  Series handshake;
+};
+
+// Runs `handshakes` (after a warm-up) against a responder that is already
+// up (thread or peer process).
+PairRun run_requester(int domain, qos::Transport t, int handshakes) {
+  Probe probe;
+  dds::Equipment eq(equipment_options(kRequester, domain, t), probe.callbacks());
+  eq.add_interface(interface_to(kResponder));
+  auto& req = eq.add_requester(kInterface, Service::MaterialLoad);
+  eq.start();
+  PairRun run;
+  const int warmup = 20;
+  for (int i = 0; i < warmup + handshakes; ++i) {
+    probe.arm();
+    const auto t0 = dds::topics::realtime_ns();
+    // The first request also waits for discovery and pairing.
+    const auto result = req.request(dds::RequestOptions{i == 0 ? 10000ms : 2000ms}).get();
+    const auto both_ready = result.outcome == dds::Outcome::Completed
+                                ? probe.wait_both_ready(5000ms)
+                                : std::int64_t{0};
+    if (i < warmup) continue;
+    if (both_ready == 0) {
+      ++run.handshake.timeouts;
+      continue;
+    }
+    run.handshake.samples_us.push_back(static_cast<double>(both_ready - t0) / 1000.0);
+    for (double v : probe.take_transitions()) run.transition.samples_us.push_back(v);
+  }
+  return run;
+}
+
+std::string transport_name(qos::Transport t) {
+  return t == qos::Transport::LoopbackUdp ? "udp_loopback" : "shm_udp";
+}
+
+pid_t spawn_peer(int domain, qos::Transport t) {
+  const std::string dom = std::to_string(domain);
+  const char* transport = t == qos::Transport::LoopbackUdp ? "udp" : "shm";
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    execl("/proc/self/exe", "mtc-bench-dds-latency", "--equipment-peer", "--transport", transport,
+          "--domain", dom.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+void stop_peer(pid_t pid) {
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+}
+
+PairRun run_config(int domain, qos::Transport t, int processes, int handshakes) {
+  std::cerr << "equipment latency: " << transport_name(t) << ", " << processes
+            << " process(es), " << handshakes << " handshakes\n";
+  PairRun run;
+  if (processes == 1) {
+    auto responder = make_responder(domain, t);
+    run = run_requester(domain, t, handshakes);
+  } else {
+    const pid_t peer = spawn_peer(domain, t);
+    try {
+      run = run_requester(domain, t, handshakes);
+    } catch (...) {
+      stop_peer(peer);
+      throw;
+    }
+    stop_peer(peer);
+  }
+  const std::string suffix = "_" + transport_name(t) + "_" + std::to_string(processes) + "proc";
+  for (Series* s : {&run.transition, &run.handshake}) {
+    s->layer = "mtc_equipment";
+    s->transport = transport_name(t);
+    s->processes = processes;
+  }
+  run.transition.metric = "transition";
+  run.transition.name = "mtc_transition" + suffix;
+  run.handshake.metric = "handshake";
+  run.handshake.name = "mtc_handshake" + suffix;
+  return run;
+}
+
+}  // namespace
+
+std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options) {
+  std::vector<Series> all;
+  const struct {
+    qos::Transport transport;
+    int processes;
+  } configs[] = {{qos::Transport::Loopback, 1},
+                 {qos::Transport::Loopback, 2},
+                 {qos::Transport::LoopbackUdp, 2}};
+  int domain = options.first_domain_id;
+  for (const auto& c : configs) {
+    PairRun run = run_config(domain++, c.transport, c.processes, options.handshakes);
+    all.push_back(std::move(run.transition));
+    all.push_back(std::move(run.handshake));
+  }
+  return all;
+}
+
+int run_equipment_peer(int domain, bool udp_only) {
+  prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the benchmark
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);  // before the runtime starts threads
+  auto responder =
+      make_responder(domain, udp_only ? qos::Transport::LoopbackUdp : qos::Transport::Loopback);
+  int sig = 0;
+  sigwait(&set, &sig);
+  return 0;
+}
+
+}  // namespace mtc::bench
