@@ -11,14 +11,14 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
-#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 
 #include <memory>
 #include <stdexcept>
 #include <thread>
 
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/presets.hpp"
 
 namespace mtc::bench {
 namespace {
@@ -50,43 +50,34 @@ class Endpoint {
  public:
   Endpoint(const PingPongOptions& options, const char* name, const char* write_topic,
            const char* read_topic) {
-    fdds::DomainParticipantQos pqos = fdds::PARTICIPANT_QOS_DEFAULT;
-    pqos.name(name);
-    pqos.transport().use_builtin_transports = false;
-    if (options.transport == Transport::ShmUdp) {
-      pqos.transport().user_transports.push_back(
-          std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>());
-    }
-    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-    udp->interfaceWhiteList.emplace_back("127.0.0.1");  // never leave the host
-    pqos.transport().user_transports.push_back(udp);
+    // The project's own presets: the participant QoS of its loopback
+    // transports and the QoS of its state topics (RELIABLE, TRANSIENT_LOCAL,
+    // KEEP_LAST 1, DEADLINE/liveliness per heartbeat; see mtc/qos/presets.hpp).
+    mtc::qos::ParticipantConfig pc;
+    pc.name = name;
+    pc.transport = options.transport == Transport::ShmUdp ? mtc::qos::Transport::Loopback
+                                                          : mtc::qos::Transport::LoopbackUdp;
+    const fdds::DomainParticipantQos pqos = mtc::qos::participant_qos(pc);
+    const mtc::qos::EndpointQos preset = mtc::qos::state_topic(pc.timing);
 
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     participant_ = factory->create_participant(options.domain_id, pqos);
     check(participant_ != nullptr, "participant");
     check_rc(type_.register_type(participant_), "type registration");
     fdds::Topic* wtopic =
-        participant_->create_topic(write_topic, type_.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+        participant_->create_topic(write_topic, type_.get_type_name(), preset.topic_qos());
     fdds::Topic* rtopic =
-        participant_->create_topic(read_topic, type_.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+        participant_->create_topic(read_topic, type_.get_type_name(), preset.topic_qos());
     check(wtopic != nullptr && rtopic != nullptr, "topics");
     fdds::Publisher* pub = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     fdds::Subscriber* sub = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     check(pub != nullptr && sub != nullptr, "publisher/subscriber");
 
-    fdds::DataWriterQos wqos = fdds::DATAWRITER_QOS_DEFAULT;
-    wqos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    wqos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
-    wqos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    wqos.history().depth = 1;
+    const fdds::DataWriterQos wqos = preset.writer_qos();
     writer_ = pub->create_datawriter(wtopic, wqos, &writer_listener_);
     check(writer_ != nullptr, "writer");
 
-    fdds::DataReaderQos rqos = fdds::DATAREADER_QOS_DEFAULT;
-    rqos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
-    rqos.durability().kind = fdds::TRANSIENT_LOCAL_DURABILITY_QOS;
-    rqos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-    rqos.history().depth = 1;
+    const fdds::DataReaderQos rqos = preset.reader_qos();
     reader_ = sub->create_datareader(rtopic, rqos);
     check(reader_ != nullptr, "reader");
 

@@ -3,8 +3,9 @@
 // InteractionSample), so the project's own latencies can be read against
 // what the middleware alone costs on the same machine in the same run.
 //
-// Fast DDS types are used directly here on purpose: this series measures the
-// middleware without any mtc layer in between.
+// Fast DDS entities are used directly here on purpose: this series measures
+// the middleware without any mtc layer in between; only the QoS comes from
+// mtc::qos, so both sides of the comparison use the same preset.
 #pragma once
 
 #include <atomic>
