@@ -99,7 +99,8 @@ void EquipmentImpl::on_value(detail::ValueEvent& e) {
   // A change number that skips ahead means this writer changed something we
   // never saw (KEEP_LAST 1 replaced it before delivery, e.g. after a loss).
   auto& last = writer_seq[e.writer];
-  const bool missed_change = v.heartbeat_count == 0 && last != 0 && v.sequence_number > last + 1;
+  // Heartbeats count too: they carry the writer's current change number.
+  const bool missed_change = last != 0 && v.sequence_number > last + 1;
   last = std::max(last, v.sequence_number);
 
   for (auto& itf : interfaces) {

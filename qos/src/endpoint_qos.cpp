@@ -71,6 +71,10 @@ EndpointQos& EndpointQos::reliable_heartbeat(std::chrono::nanoseconds period) no
   rtps_heartbeat_ = period;
   return *this;
 }
+EndpointQos& EndpointQos::reader_depth(std::int32_t depth) noexcept {
+  reader_depth_ = depth > 0 ? depth : 1;
+  return *this;
+}
 EndpointQos& EndpointQos::max_instances(std::int32_t count) noexcept {
   max_instances_ = count > 0 ? count : 1;
   return *this;
@@ -136,7 +140,9 @@ fdds::DataWriterQos EndpointQos::writer_qos() const {
 
 fdds::DataReaderQos EndpointQos::reader_qos() const {
   fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
-  apply_common(*this, q);
+  auto reader = *this;
+  if (!keep_all_) reader.keep_last(reader_depth());
+  apply_common(reader, q);
   q.data_sharing().off();
   return q;
 }

@@ -36,6 +36,7 @@ EndpointQos state_topic(const Timing& timing) {
       .reliable()
       .transient_local()
       .keep_last(1)
+      .reader_depth(8)
       .deadline(timing.lease())
       .liveliness_manual_by_topic(timing.lease())
       .reliable_heartbeat(timing.reliable_heartbeat)

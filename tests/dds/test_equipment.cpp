@@ -218,7 +218,8 @@ TEST(Equipment, DisabledInterfaceRefusesRequests) {
 TEST(Equipment, DoorStateGatesOpenAndCloseDoor) {
   Recorder rec;
   Equipment cnc(options(38, "cnc-door"), rec.callbacks());
-  Equipment robot(options(38, "robot-door"));
+  Recorder robot_rec;
+  Equipment robot(options(38, "robot-door"), robot_rec.callbacks());
   InterfaceConfig door{"door1", InterfaceType::Door, "", {"robot-door", "door1"}};
   door.publishes_door_state = true;
   door.initial_door_state = core::DoorState::Closed;
@@ -249,7 +250,9 @@ TEST(Equipment, DoorStateGatesOpenAndCloseDoor) {
   EXPECT_EQ(open_req.request(wait).get().outcome, Outcome::Completed);
   ASSERT_TRUE(rec.wait_state(open_resp, InteractionState::NotReady));
   ASSERT_TRUE(rec.wait_state(close_resp, InteractionState::Ready));
-  EXPECT_EQ(close_req.request(wait).get().outcome, Outcome::Completed);
+  const auto closed = close_req.request(wait).get();
+  EXPECT_EQ(closed.outcome, Outcome::Completed) << core::describe(closed.reason) << "\n"
+                                                << robot_rec.dump();
   EXPECT_TRUE(rec.wait_state(open_resp, InteractionState::Ready));
 }
 

@@ -36,6 +36,8 @@ TEST(Presets, StateTopicHoldsDocumentedPolicies) {
   EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(r.deadline().period, to_duration(300ms));
   EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+  EXPECT_EQ(r.history().depth, 8);  // bursts are handed over, not collapsed
+  EXPECT_EQ(r.resource_limits().max_samples_per_instance, 8);
 }
 
 TEST(Presets, TimingIsConfigurablePerInterface) {
@@ -109,6 +111,9 @@ void expect_same_reader(const std::string& profile, const fdds::DataReaderQos& c
   EXPECT_EQ(a.qos.m_ownership.kind, code.ownership().kind) << profile;
   EXPECT_EQ(a.topic.historyQos.depth, code.history().depth) << profile;
   EXPECT_EQ(a.topic.resourceLimitsQos.max_instances, code.resource_limits().max_instances);
+  EXPECT_EQ(a.topic.resourceLimitsQos.max_samples, code.resource_limits().max_samples);
+  EXPECT_EQ(a.topic.resourceLimitsQos.max_samples_per_instance,
+            code.resource_limits().max_samples_per_instance);
 }
 
 TEST_F(XmlProfiles, EndpointProfilesMatchCodePresets) {

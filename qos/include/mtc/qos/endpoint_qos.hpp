@@ -44,6 +44,8 @@ class EndpointQos {
   EndpointQos& reliable_heartbeat(std::chrono::nanoseconds period) noexcept;
   // Upper bound on instances per endpoint (each data item is an instance).
   EndpointQos& max_instances(std::int32_t count) noexcept;
+  // Reader-side history depth per instance (default: the same as keep_last).
+  EndpointQos& reader_depth(std::int32_t depth) noexcept;
 
   Reliability reliability() const noexcept { return reliability_; }
   Durability durability() const noexcept { return durability_; }
@@ -58,6 +60,7 @@ class EndpointQos {
     return rtps_heartbeat_;
   }
   std::int32_t max_instances() const noexcept { return max_instances_; }
+  std::int32_t reader_depth() const noexcept { return reader_depth_ > 0 ? reader_depth_ : depth_; }
 
   eprosima::fastdds::dds::DataWriterQos writer_qos() const;
   eprosima::fastdds::dds::DataReaderQos reader_qos() const;
@@ -75,6 +78,7 @@ class EndpointQos {
   std::int32_t strength_ = 0;
   std::optional<std::chrono::nanoseconds> rtps_heartbeat_;
   std::int32_t max_instances_ = 1024;
+  std::int32_t reader_depth_ = 0;
 };
 
 // Converts a std::chrono duration to a DDS Duration_t (infinite stays out:

@@ -19,8 +19,11 @@ namespace mtc::qos {
 //   that missed a transition would wait forever.
 // - TRANSIENT_LOCAL: a late joiner or a peer reconnecting after an outage gets
 //   the current value of every item at once instead of waiting a heartbeat.
-// - KEEP_LAST 1 per instance: only the current state matters; older states
-//   are never replayed (a stale ACTIVE must not resurface after recovery).
+// - KEEP_LAST 1 per instance (writer): only the current state matters; a
+//   late joiner gets the current state only (a stale ACTIVE must not
+//   resurface after recovery). Readers keep up to 8 per instance so that a
+//   burst of transitions that arrives before the listener runs is handed
+//   over in order instead of being collapsed to the last one.
 // - DEADLINE = timing.lease(): the heartbeat contract; a missing heartbeat of
 //   one data item raises requested_deadline_missed for that instance.
 // - LIVELINESS MANUAL_BY_TOPIC, lease = timing.lease(): each write asserts the
