@@ -1,0 +1,84 @@
+// A hand-driven counterpart: publishes one interaction data item the way a
+// (possibly misbehaving) device of another vendor would, with a heartbeat,
+// so tests can produce states the Equipment API never would (scenarios 4
+// and 5, protocol violations).
+#pragma once
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "mtc/dds/entities.hpp"
+#include "mtc/dds/topics.hpp"
+#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace mtc::dds::testing {
+
+class RawPeer {
+ public:
+  RawPeer(int domain, const std::string& uuid, core::SubType side, core::Service service)
+      : participant_(domain, qos::participant_qos({})),
+        publisher_(participant_, {topics::device_partition(uuid)}) {
+    participant_.register_type(fdds::TypeSupport(new idl::InteractionSamplePubSubType()));
+    topic_ = std::make_unique<Topic>(participant_,
+                                     side == core::SubType::Request ? topics::kInteractionRequest
+                                                                    : topics::kInteractionResponse,
+                                     "mtc::idl::InteractionSample",
+                                     qos::state_topic().topic_qos());
+    writer_ = std::make_unique<Writer<idl::InteractionSample>>(
+        publisher_, *topic_, qos::state_topic().writer_qos(), listener_);
+    sample_.device_uuid(uuid);
+    sample_.interface_id("mh1");
+    sample_.data_item_id(topics::interaction_item_id("mh1", service, side));
+    sample_.service(topics::to_idl(service));
+    sample_.sub_type(topics::to_idl(side));
+    thread_ = std::thread([this] { heartbeat(); });
+  }
+  ~RawPeer() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  // A change of value: new change number, heartbeat count reset.
+  void set(core::InteractionState state) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    sample_.state(topics::to_idl(state));
+    sample_.sequence_number(sample_.sequence_number() + 1);
+    sample_.heartbeat_count(0);
+    sample_.source_time_ns(topics::realtime_ns());
+    writer_->write(sample_);
+  }
+
+ private:
+  // The periodic re-publication every real device performs (a timer, not a
+  // synchronisation sleep).
+  void heartbeat() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return stop_; })) {
+      if (sample_.sequence_number() == 0) continue;
+      sample_.heartbeat_count(sample_.heartbeat_count() + 1);
+      writer_->write(sample_);
+    }
+  }
+
+  struct QuietListener : fdds::DataWriterListener {};
+  Participant participant_;
+  Publisher publisher_;
+  QuietListener listener_;
+  std::unique_ptr<Topic> topic_;
+  std::unique_ptr<Writer<idl::InteractionSample>> writer_;
+  idl::InteractionSample sample_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace mtc::dds::testing

@@ -1,0 +1,89 @@
+// Scenarios 4 and 5 and protocol violations, against a hand-driven raw
+// counterpart (the Equipment API itself never produces these states).
+#include <gtest/gtest.h>
+
+#include "equipment_fixture.hpp"
+#include "raw_peer.hpp"
+
+namespace mtc::dds::testing {
+namespace {
+
+using core::InterfaceType;
+using core::Reason;
+using core::SubType;
+
+// Scenario 4: the requester returns to READY while the responder is ACTIVE.
+TEST(UnexpectedStates, Scenario4RequesterLeavesActive) {
+  Recorder rec;
+  auto o = options(41, "robot-s4");
+  o.recovery = RecoveryPolicy::Manual;
+  Equipment robot(o, rec.callbacks());
+  robot.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"cnc-s4", "mh1"}});
+  std::atomic<int> aborted{-1};
+  ResponderCallbacks cb;
+  cb.on_abort = [&](Responder&, Reason why) {
+    aborted = static_cast<int>(why);
+    rec.notify();
+  };
+  auto& resp = robot.add_responder("mh1", Service::MaterialLoad, cb);
+  robot.start();
+  RawPeer cnc(41, "cnc-s4", SubType::Request, Service::MaterialLoad);
+  cnc.set(InteractionState::Ready);
+  ASSERT_TRUE(rec.wait([&] { return resp.counterpart_state() == InteractionState::Ready; }));
+  cnc.set(InteractionState::Active);
+  ASSERT_TRUE(rec.wait_state(resp, InteractionState::Active));  // auto-accepted
+  cnc.set(InteractionState::Ready);
+  ASSERT_TRUE(rec.wait_state(resp, InteractionState::Fail));
+  ASSERT_TRUE(rec.wait([&] { return aborted.load() >= 0; }));
+  EXPECT_EQ(aborted.load(), static_cast<int>(Reason::CounterpartLeftActive));
+  // Recovery waits for the requester to acknowledge the FAIL.
+  EXPECT_EQ(resp.recover().get().reason, Reason::FailNotAcknowledged);
+  cnc.set(InteractionState::Fail);
+  ASSERT_TRUE(rec.wait_notice(core::Notice::FailAcknowledged, Reason::None));
+  EXPECT_EQ(resp.recover().get().current, InteractionState::Ready);
+}
+
+// Scenario 5: the responder goes NOT_READY while ACTIVE.
+TEST(UnexpectedStates, Scenario5ResponderLeavesActive) {
+  Recorder rec;
+  Equipment cnc(options(42, "cnc-s5"), rec.callbacks());
+  cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-s5", "mh1"}});
+  auto& req = cnc.add_requester("mh1", Service::MaterialUnload);
+  cnc.start();
+  RawPeer robot(42, "robot-s5", SubType::Response, Service::MaterialUnload);
+  robot.set(InteractionState::Ready);
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  auto outcome = req.request(wait);
+  ASSERT_TRUE(rec.wait_state(req, InteractionState::Active));
+  robot.set(InteractionState::Active);
+  ASSERT_TRUE(rec.wait([&] { return req.counterpart_state() == InteractionState::Active; }));
+  robot.set(InteractionState::NotReady);
+  const auto r = outcome.get();
+  EXPECT_EQ(r.outcome, Outcome::Failed);
+  EXPECT_EQ(r.reason, Reason::CounterpartLeftActive);
+}
+
+// A responder that jumps to COMPLETE without ever being ACTIVE (and without
+// a skipped change number) is a protocol violation, not a lost ACTIVE.
+TEST(UnexpectedStates, CompleteWithoutActiveIsAViolation) {
+  Recorder rec;
+  Equipment cnc(options(43, "cnc-v"), rec.callbacks());
+  cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-v", "mh1"}});
+  auto& req = cnc.add_requester("mh1", Service::PartChange);
+  cnc.start();
+  RawPeer robot(43, "robot-v", SubType::Response, Service::PartChange);
+  robot.set(InteractionState::Ready);
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  auto outcome = req.request(wait);
+  ASSERT_TRUE(rec.wait_state(req, InteractionState::Active));
+  robot.set(InteractionState::Complete);
+  const auto r = outcome.get();
+  EXPECT_EQ(r.outcome, Outcome::Failed);
+  EXPECT_EQ(r.reason, Reason::CompleteWithoutActive);
+  EXPECT_TRUE(rec.saw_notice(core::Notice::ProtocolViolation, Reason::CompleteWithoutActive));
+}
+
+}  // namespace
+}  // namespace mtc::dds::testing
