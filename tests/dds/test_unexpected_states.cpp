@@ -87,3 +87,46 @@ TEST(UnexpectedStates, CompleteWithoutActiveIsAViolation) {
 
 }  // namespace
 }  // namespace mtc::dds::testing
+
+namespace mtc::dds::testing {
+namespace {
+
+// One robot serving two machine tools through two interfaces: losing one
+// machine fails only the interface paired with it.
+TEST(MultiDevice, LossOfOneCounterpartLeavesTheOtherInterfaceAlone) {
+  Recorder rec;
+  Equipment robot(options(44, "robot-m"), rec.callbacks());
+  robot.add_interface({"to_a", core::InterfaceType::MaterialHandler, "", {"cnc-a", "mh1"}});
+  robot.add_interface({"to_b", core::InterfaceType::MaterialHandler, "", {"cnc-b", "mh1"}});
+  ResponderCallbacks cb;
+  cb.on_request = [](Responder& r) { r.complete(); };
+  auto& serve_a = robot.add_responder("to_a", Service::MaterialLoad, cb);
+  auto& serve_b = robot.add_responder("to_b", Service::MaterialLoad, cb);
+  robot.start();
+  auto make_cnc = [](const std::string& uuid, const std::string& robot_itf) {
+    auto cnc = std::make_unique<Equipment>(options(44, uuid));
+    cnc->add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {"robot-m", robot_itf}});
+    cnc->add_requester("mh1", Service::MaterialLoad);
+    cnc->start();
+    return cnc;
+  };
+  auto cnc_a = make_cnc("cnc-a", "to_a");
+  auto cnc_b = make_cnc("cnc-b", "to_b");
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  EXPECT_EQ(cnc_a->requester("mh1", Service::MaterialLoad)->request(wait).get().outcome,
+            Outcome::Completed);
+  EXPECT_EQ(cnc_b->requester("mh1", Service::MaterialLoad)->request(wait).get().outcome,
+            Outcome::Completed);
+  ASSERT_TRUE(rec.wait([&] { return serve_a.counterpart_state() == InteractionState::Ready; }));
+  cnc_a.reset();
+  ASSERT_TRUE(rec.wait_state(serve_a, InteractionState::Fail));
+  EXPECT_EQ(robot.link_state("to_a"), LinkState::Lost);
+  EXPECT_EQ(robot.link_state("to_b"), LinkState::Up);
+  EXPECT_EQ(serve_b.state(), InteractionState::Ready);
+  EXPECT_EQ(cnc_b->requester("mh1", Service::MaterialLoad)->request(wait).get().outcome,
+            Outcome::Completed);
+}
+
+}  // namespace
+}  // namespace mtc::dds::testing
