@@ -13,6 +13,8 @@ PACKAGES=(
   iproute2 util-linux                                      # ip, unshare: loopback-only netns
   curl wrk                                                 # HTTP checks and load
   python3                                                  # benchmark plots and summaries
+  gnuplot-nox                                              # benchmarks/run.sh latency plots (PNG);
+                                                           # bookworm has no matplotlib by default
 )
 
 missing=()

@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Runs every benchmark inside the loopback-only network namespace and
+# collects JSON summaries and plots in bench-results/ (gitignored):
+#   core.json            mtc-bench-core (Google Benchmark JSON)
+#   bridge_agent.json    mtc-bench-bridge-agent (Google Benchmark JSON)
+#   bridge_http.json     benchmarks/bridge_http/run.sh (one JSON object per line)
+#   dds_latency.json     mtc-bench-dds-latency: raw Fast DDS vs transition vs handshake
+#   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
+#
+#   benchmarks/run.sh [--no-build] [--quick]
+# --quick: fewer samples, for a smoke run. Benchmarks that are not built are
+# reported and skipped; any benchmark that fails makes the exit code 1.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${MTC_BUILD_DIR:-$root/build}"
+out="${MTC_BENCH_RESULTS:-$root/bench-results}"
+bin="$build/benchmarks"
+netns="$root/scripts/netns-run.sh"
+
+build_first=1
+quick=0
+for arg in "$@"; do
+  case "$arg" in
+    --no-build) build_first=0 ;;
+    --quick) quick=1 ;;
+    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "run.sh: unknown option $arg" >&2; exit 2 ;;
+  esac
+done
+
+[ "$build_first" = 1 ] && "$root/scripts/build.sh"
+mkdir -p "$out"
+failed=()
+
+note() { echo "== $*" >&2; }
+
+# run_one <name> <command...>: runs inside the namespace, records a failure.
+run_one() {
+  local name="$1"; shift
+  note "$name"
+  # Segments left by a killed participant would confuse the SHM transport.
+  fastdds shm clean >/dev/null 2>&1 || true
+  if ! "$netns" "$@"; then
+    echo "run.sh: $name failed" >&2
+    failed+=("$name")
+  fi
+}
+
+gbench() {  # gbench <exe> <json-name>
+  local exe="$bin/$1"
+  if [ ! -x "$exe" ]; then note "$1 not built, skipped"; return; fi
+  local args=(--benchmark_out="$out/$2" --benchmark_out_format=json)
+  [ "$quick" = 1 ] && args+=(--benchmark_min_time=0.05)
+  run_one "$1" "$exe" "${args[@]}"
+}
+
+gbench mtc-bench-core core.json
+gbench mtc-bench-bridge-agent bridge_agent.json
+
+if [ -x "$bin/mtc-bench-bridge-current" ] && [ -x "$root/benchmarks/bridge_http/run.sh" ]; then
+  note "bridge_http"
+  if [ "$quick" = 1 ]; then export MTC_BENCH_SECONDS=2 MTC_BENCH_SAMPLES=200; fi
+  if "$root/benchmarks/bridge_http/run.sh" "$build" >/dev/null; then
+    cp "$bin/bridge_http.json" "$out/bridge_http.json"
+  else
+    failed+=("bridge_http")
+  fi
+else
+  note "bridge HTTP benchmarks not built, skipped"
+fi
+
+if [ -x "$bin/mtc-bench-dds-latency" ]; then
+  dds_args=(--out "$out/dds_latency.json")
+  [ "$quick" = 1 ] && dds_args+=(--samples 300 --handshakes 60)
+  run_one mtc-bench-dds-latency "$bin/mtc-bench-dds-latency" "${dds_args[@]}" >/dev/null
+  if [ -s "$out/dds_latency.json" ]; then
+    python3 "$root/benchmarks/dds/plot_latency.py" "$out/dds_latency.json" "$out/dds_latency" ||
+      failed+=("dds plot")
+  fi
+else
+  note "mtc-bench-dds-latency not built, skipped"
+fi
+
+note "results in $out:"
+ls -1 "$out" >&2
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "run.sh: failed: ${failed[*]}" >&2
+  exit 1
+fi
