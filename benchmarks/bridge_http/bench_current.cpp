@@ -25,8 +25,12 @@ using namespace mtc::bridge::bench;
 // "123.45us" / "1.20ms" / "2.00s" -> microseconds.
 double to_us(const std::string& number, const std::string& unit) {
   const double value = std::stod(number);
-  if (unit == "ms") return value * 1000.0;
-  if (unit == "s") return value * 1000000.0;
+  if (unit == "ms") {
+    return value * 1000.0;
+  }
+  if (unit == "s") {
+    return value * 1000000.0;
+  }
   return value;
 }
 
@@ -42,18 +46,28 @@ WrkResult parse_wrk(const std::string& output) {
   WrkResult r;
   std::smatch m;
   const std::regex rps(R"(Requests/sec:\s+([0-9.]+))");
-  if (std::regex_search(output, m, rps)) r.requests_per_second = std::stod(m[1]);
+  if (std::regex_search(output, m, rps)) {
+    r.requests_per_second = std::stod(m[1]);
+  }
   const std::regex total(R"((\d+) requests in)");
-  if (std::regex_search(output, m, total)) r.requests = std::stoll(m[1]);
+  if (std::regex_search(output, m, total)) {
+    r.requests = std::stoll(m[1]);
+  }
   const std::regex non2xx(R"(Non-2xx or 3xx responses:\s+(\d+))");
-  if (std::regex_search(output, m, non2xx)) r.non_2xx = std::stoll(m[1]);
+  if (std::regex_search(output, m, non2xx)) {
+    r.non_2xx = std::stoll(m[1]);
+  }
   const std::regex errors(R"(Socket errors:\s+([^\n]+))");
-  if (std::regex_search(output, m, errors)) r.socket_errors = m[1];
+  if (std::regex_search(output, m, errors)) {
+    r.socket_errors = m[1];
+  }
   const std::array<std::pair<const char*, double*>, 4> quantiles{
       {{"50", &r.p50_us}, {"75", &r.p75_us}, {"90", &r.p90_us}, {"99", &r.p99_us}}};
   for (const auto& [q, out] : quantiles) {
     const std::regex line(std::string(R"(\s)") + q + R"(%\s+([0-9.]+)(us|ms|s)\b)");
-    if (std::regex_search(output, m, line)) *out = to_us(m[1], m[2]);
+    if (std::regex_search(output, m, line)) {
+      *out = to_us(m[1], m[2]);
+    }
   }
   return r;
 }
@@ -61,10 +75,16 @@ WrkResult parse_wrk(const std::string& output) {
 std::string run(const std::string& command) {
   std::string output;
   FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) throw std::runtime_error("cannot run: " + command);
+  if (pipe == nullptr) {
+    throw std::runtime_error("cannot run: " + command);
+  }
   std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  if (::pclose(pipe) != 0) throw std::runtime_error("failed: " + command + "\n" + output);
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) {
+    output += buffer.data();
+  }
+  if (::pclose(pipe) != 0) {
+    throw std::runtime_error("failed: " + command + "\n" + output);
+  }
   return output;
 }
 
@@ -84,7 +104,9 @@ int main(int argc, char** argv) try {
   std::atomic<bool> feeding{true};
   std::atomic<long long> fed{0};
   std::thread feeder([&] {
-    if (feed_hz <= 0) return;
+    if (feed_hz <= 0) {
+      return;
+    }
     const auto period = std::chrono::nanoseconds(1000000000LL / feed_hz);
     auto next = std::chrono::steady_clock::now();
     for (std::size_t i = 0; feeding; ++i) {

@@ -61,7 +61,9 @@ int main(int argc, char** argv) try {
   options.device_uuid = "bench-robot";
   dds::EquipmentCallbacks equipment_callbacks;
   equipment_callbacks.on_transition = [&](const dds::TransitionEvent& e) {
-    if (e.publish_time_ns != 0) step_ns = e.step_time_ns;
+    if (e.publish_time_ns != 0) {
+      step_ns = e.step_time_ns;
+    }
   };
   dds::Equipment robot(options, equipment_callbacks);
   robot.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
@@ -70,8 +72,9 @@ int main(int argc, char** argv) try {
 
   StreamClient client(server.port());
   client.expect(">READY<");  // the bridge has seen the device once this arrives
-  if (!client.wait(std::chrono::seconds(20)))
+  if (!client.wait(std::chrono::seconds(20))) {
     throw std::runtime_error("device never reached the bridge");
+  }
 
   std::mt19937 random(11);
   std::uniform_int_distribution<int> gap_us(500, 1500);

@@ -37,7 +37,9 @@ int main(int argc, char** argv) try {
   const int warmup = 50;
   for (int k = 0; k < samples + warmup; ++k) {
     const std::uint64_t sequence = cell.agent().next_sequence();
-    for (auto& client : clients) client->expect("sequence=\"" + std::to_string(sequence) + "\"");
+    for (auto& client : clients) {
+      client->expect("sequence=\"" + std::to_string(sequence) + "\"");
+    }
     const auto t0 = Clock::now();
     cell.feed_next(0);  // one item: each feed is one new observation
     for (std::size_t c = 0; c < clients.size(); ++c) {
@@ -46,10 +48,14 @@ int main(int argc, char** argv) try {
         ++lost;
         continue;
       }
-      if (k < warmup) continue;
+      if (k < warmup) {
+        continue;
+      }
       const auto latency = std::chrono::duration_cast<std::chrono::nanoseconds>(t1->steady - t0);
       all_clients.push_back(latency);
-      if (c == 0) first_client.push_back(latency);
+      if (c == 0) {
+        first_client.push_back(latency);
+      }
     }
     // Spread the feeds so each measures an idle-to-busy wake-up, as a
     // handshake transition does, not a queue draining.

@@ -10,10 +10,18 @@ namespace {
 // Values a data item of this type cycles through (all valid transitions
 // are not needed here, only changes the agent will record).
 std::vector<std::string> values_for(const std::string& type, const std::string& sub_type) {
-  if (type == "INTERFACE_STATE") return {"ENABLED", "DISABLED"};
-  if (type == "DOOR_STATE" || type == "CHUCK_STATE") return {"OPEN", "UNLATCHED", "CLOSED"};
-  if (sub_type == "REQUEST") return {"READY", "ACTIVE", "NOT_READY"};
-  if (sub_type == "RESPONSE") return {"READY", "ACTIVE", "COMPLETE"};
+  if (type == "INTERFACE_STATE") {
+    return {"ENABLED", "DISABLED"};
+  }
+  if (type == "DOOR_STATE" || type == "CHUCK_STATE") {
+    return {"OPEN", "UNLATCHED", "CLOSED"};
+  }
+  if (sub_type == "REQUEST") {
+    return {"READY", "ACTIVE", "NOT_READY"};
+  }
+  if (sub_type == "RESPONSE") {
+    return {"READY", "ACTIVE", "COMPLETE"};
+  }
   return {};
 }
 
@@ -36,14 +44,19 @@ DemoCell::DemoCell(const std::string& devices_file, unsigned io_threads) {
     for (const auto& item : hit.node().select_nodes(".//*[local-name()='DataItem']")) {
       auto values = values_for(item.node().attribute("type").value(),
                                item.node().attribute("subType").value());
-      if (values.empty()) continue;
+      if (values.empty()) {
+        continue;
+      }
       items_.push_back({uuid, item.node().attribute("id").value(), std::move(values)});
     }
   }
-  if (items_.empty())
+  if (items_.empty()) {
     throw std::runtime_error("demo cell: no Part 5 data items in " + devices_file);
+  }
   cursor_.assign(items_.size(), 0);
-  for (std::size_t i = 0; i < items_.size(); ++i) feed_next(i);
+  for (std::size_t i = 0; i < items_.size(); ++i) {
+    feed_next(i);
+  }
 
   ServerOptions server;
   server.port = 0;
@@ -70,7 +83,9 @@ void DemoCell::feed_next(std::size_t index) {
 LatencySummary summarize(std::vector<std::chrono::nanoseconds> samples) {
   LatencySummary s;
   s.samples = samples.size();
-  if (samples.empty()) return s;
+  if (samples.empty()) {
+    return s;
+  }
   std::sort(samples.begin(), samples.end());
   auto at = [&](double q) {
     const auto index = static_cast<std::size_t>(q * static_cast<double>(samples.size() - 1));
@@ -81,14 +96,18 @@ LatencySummary summarize(std::vector<std::chrono::nanoseconds> samples) {
   s.p99_us = at(0.99);
   s.max_us = static_cast<double>(samples.back().count()) / 1000.0;
   double total = 0;
-  for (const auto& sample : samples) total += static_cast<double>(sample.count());
+  for (const auto& sample : samples) {
+    total += static_cast<double>(sample.count());
+  }
   s.mean_us = total / static_cast<double>(samples.size()) / 1000.0;
   return s;
 }
 
 std::string arg(int argc, char** argv, const std::string& name, const std::string& fallback) {
   for (int i = 1; i + 1 < argc; ++i) {
-    if (argv[i] == name) return argv[i + 1];
+    if (argv[i] == name) {
+      return argv[i + 1];
+    }
   }
   return fallback;
 }

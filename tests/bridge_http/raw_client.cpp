@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <system_error>
 
 namespace mtc::bridge::test {
 namespace {
@@ -26,7 +27,9 @@ std::string lower(std::string text) {
 
 std::string trim(const std::string& text) {
   const auto first = text.find_first_not_of(" \t");
-  if (first == std::string::npos) return {};
+  if (first == std::string::npos) {
+    return {};
+  }
   return text.substr(first, text.find_last_not_of(" \t") - first + 1);
 }
 
@@ -36,7 +39,9 @@ std::map<std::string, std::string> parse_headers(const std::string& text, std::s
   std::map<std::string, std::string> headers;
   while (begin < end) {
     auto line_end = text.find("\r\n", begin);
-    if (line_end == std::string::npos || line_end > end) line_end = end;
+    if (line_end == std::string::npos || line_end > end) {
+      line_end = end;
+    }
     const auto line = text.substr(begin, line_end - begin);
     const auto colon = line.find(':');
     if (colon != std::string::npos) {
@@ -50,12 +55,16 @@ std::map<std::string, std::string> parse_headers(const std::string& text, std::s
 // Splits off a response head ("HTTP/1.1 200 OK\r\n...\r\n\r\n") from buffer.
 std::optional<HttpResponse> take_head(std::string& buffer) {
   const auto end = buffer.find("\r\n\r\n");
-  if (end == std::string::npos) return std::nullopt;
+  if (end == std::string::npos) {
+    return std::nullopt;
+  }
   HttpResponse response;
   const auto line_end = buffer.find("\r\n");
   const auto status_line = buffer.substr(0, line_end);
   response.version = status_line.substr(0, status_line.find(' '));
-  if (status_line.size() > 12) response.status = std::atoi(status_line.c_str() + 9);
+  if (status_line.size() > 12) {
+    response.status = std::atoi(status_line.c_str() + 9);
+  }
   response.headers = parse_headers(buffer, line_end + 2, end);
   buffer.erase(0, end + 4);
   return response;
@@ -65,13 +74,15 @@ std::optional<HttpResponse> take_head(std::string& buffer) {
 
 RawClient::RawClient(std::uint16_t port) {
   fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd_ < 0) throw std::runtime_error(std::string("socket: ") + std::strerror(errno));
+  if (fd_ < 0) {
+    throw std::runtime_error(std::string("socket: ") + std::generic_category().message(errno));
+  }
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_port = htons(port);
   address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   if (::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    const std::string message = std::strerror(errno);
+    const std::string message = std::generic_category().message(errno);
     ::close(fd_);
     throw std::runtime_error("connect: " + message);
   }
@@ -84,26 +95,36 @@ RawClient::~RawClient() {
 }
 
 void RawClient::close() {
-  if (fd_ >= 0) ::close(fd_);
+  if (fd_ >= 0) {
+    ::close(fd_);
+  }
   fd_ = -1;
 }
 
 void RawClient::reset() {
-  if (fd_ < 0) return;
+  if (fd_ < 0) {
+    return;
+  }
   linger option{1, 0};
   ::setsockopt(fd_, SOL_SOCKET, SO_LINGER, &option, sizeof option);
   close();
 }
 
 void RawClient::send(std::string_view bytes) {
-  if (!try_send(bytes)) throw std::runtime_error("send failed");
+  if (!try_send(bytes)) {
+    throw std::runtime_error("send failed");
+  }
 }
 
 bool RawClient::try_send(std::string_view bytes) noexcept {
   while (!bytes.empty()) {
     const auto n = ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
+    if (n < 0 && errno == EINTR) {
+      continue;
+    }
+    if (n <= 0) {
+      return false;
+    }
     bytes.remove_prefix(static_cast<std::size_t>(n));
   }
   return true;
@@ -114,12 +135,18 @@ void RawClient::shutdown_write() {
 }
 
 bool RawClient::fill(Clock::time_point deadline) {
-  if (eof_ || fd_ < 0) return false;
+  if (eof_ || fd_ < 0) {
+    return false;
+  }
   const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-  if (left.count() <= 0) return false;
+  if (left.count() <= 0) {
+    return false;
+  }
   pollfd pfd{fd_, POLLIN, 0};
   const int ready = ::poll(&pfd, 1, static_cast<int>(left.count()));
-  if (ready <= 0) return false;
+  if (ready <= 0) {
+    return false;
+  }
   char chunk[16384];
   const auto n = ::recv(fd_, chunk, sizeof chunk, 0);
   if (n <= 0) {
@@ -134,14 +161,18 @@ bool RawClient::read_until(const std::function<bool(const std::string&)>& done,
                            std::chrono::milliseconds timeout) {
   const auto deadline = Clock::now() + timeout;
   while (!done(buffer_)) {
-    if (!fill(deadline)) return done(buffer_);
+    if (!fill(deadline)) {
+      return done(buffer_);
+    }
   }
   return true;
 }
 
 bool RawClient::wait_closed(std::chrono::milliseconds timeout) {
   const auto deadline = Clock::now() + timeout;
-  while (!eof_ && Clock::now() < deadline) fill(deadline);
+  while (!eof_ && Clock::now() < deadline) {
+    fill(deadline);
+  }
   return eof_;
 }
 
@@ -149,11 +180,15 @@ std::optional<HttpResponse> RawClient::read_response(std::chrono::milliseconds t
                                                      bool head_only) {
   const auto deadline = Clock::now() + timeout;
   while (buffer_.find("\r\n\r\n") == std::string::npos) {
-    if (!fill(deadline)) return std::nullopt;
+    if (!fill(deadline)) {
+      return std::nullopt;
+    }
   }
   auto response = take_head(buffer_);
   const auto length_text = response->header("content-length");
-  if (head_only) return response;
+  if (head_only) {
+    return response;
+  }
   if (length_text.empty()) {  // body until close
     while (fill(deadline)) {
     }
@@ -162,7 +197,9 @@ std::optional<HttpResponse> RawClient::read_response(std::chrono::milliseconds t
   }
   const auto length = static_cast<std::size_t>(std::stoull(length_text));
   while (buffer_.size() < length) {
-    if (!fill(deadline)) return std::nullopt;
+    if (!fill(deadline)) {
+      return std::nullopt;
+    }
   }
   response->body = buffer_.substr(0, length);
   buffer_.erase(0, length);
@@ -171,10 +208,14 @@ std::optional<HttpResponse> RawClient::read_response(std::chrono::milliseconds t
 
 std::optional<HttpResponse> RawClient::read_stream_head(std::chrono::milliseconds timeout) {
   auto response = read_response(timeout, true);
-  if (!response) return response;
+  if (!response) {
+    return response;
+  }
   const auto type = response->header("content-type");
   const auto at = type.find("boundary=");
-  if (at != std::string::npos) boundary_ = type.substr(at + 9);
+  if (at != std::string::npos) {
+    boundary_ = type.substr(at + 9);
+  }
   return response;
 }
 
@@ -182,16 +223,22 @@ bool RawClient::dechunk() {
   bool progress = false;
   while (!last_chunk_) {
     const auto line_end = buffer_.find("\r\n");
-    if (line_end == std::string::npos) break;
+    if (line_end == std::string::npos) {
+      break;
+    }
     const auto size = std::stoull(buffer_.substr(0, line_end), nullptr, 16);
     if (size == 0) {
-      if (buffer_.size() < line_end + 4) break;
+      if (buffer_.size() < line_end + 4) {
+        break;
+      }
       last_chunk_ = true;
       buffer_.erase(0, line_end + 4);
       progress = true;
       break;
     }
-    if (buffer_.size() < line_end + 2 + size + 2) break;
+    if (buffer_.size() < line_end + 2 + size + 2) {
+      break;
+    }
     body_.append(buffer_, line_end + 2, size);
     buffer_.erase(0, line_end + 2 + size + 2);
     progress = true;
@@ -217,7 +264,9 @@ std::optional<Part> RawClient::read_part(std::chrono::milliseconds timeout) {
         }
       }
     }
-    if (!fill(deadline)) return std::nullopt;
+    if (!fill(deadline)) {
+      return std::nullopt;
+    }
   }
 }
 
@@ -226,8 +275,12 @@ bool RawClient::read_stream_end(std::chrono::milliseconds timeout) {
   const std::string closer = "--" + boundary_ + "--";
   for (;;) {
     dechunk();
-    if (last_chunk_ && body_.find(closer) != std::string::npos) return true;
-    if (!fill(deadline)) return false;
+    if (last_chunk_ && body_.find(closer) != std::string::npos) {
+      return true;
+    }
+    if (!fill(deadline)) {
+      return false;
+    }
   }
 }
 

@@ -17,7 +17,7 @@
 namespace mtc::bridge::test {
 namespace {
 
-const std::string kBridge = MTC_BRIDGE_EXE;
+constexpr const char* kBridge = MTC_BRIDGE_EXE;
 
 // Starts mtc-bridge on a free port and waits for its "serving" line.
 class RunningBridge {
@@ -45,7 +45,9 @@ class RunningBridge {
   // Value of data item `id` in /current, "" when absent.
   std::string current_value(const std::string& id) {
     const auto response = get("/current");
-    if (!response || response->status != 200) return {};
+    if (!response || response->status != 200) {
+      return {};
+    }
     pugi::xml_document doc;
     doc.load_string(response->body.c_str());
     const std::string query = "//*[@dataItemId='" + id + "']";
@@ -61,14 +63,16 @@ template <typename Condition>
 bool eventually(Condition condition, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (!condition()) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
+    if (std::chrono::steady_clock::now() > deadline) {
+      return false;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return true;
 }
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
+  std::string path = ::testing::TempDir() + name;
   std::ofstream(path) << text;
   return path;
 }
@@ -76,7 +80,9 @@ std::string write_temp(const std::string& name, const std::string& text) {
 int exit_code_of(const std::vector<std::string>& args, std::string* err = nullptr) {
   ChildProcess process(kBridge, args);
   const auto code = process.wait_exit(std::chrono::seconds(20));
-  if (err != nullptr) *err = process.err();
+  if (err != nullptr) {
+    *err = process.err();
+  }
   return code.value_or(-1);
 }
 

@@ -131,7 +131,9 @@ TEST_F(ServerTest, BinaryJunkNeverHurtsOtherClients) {
   RawClient bystander(port());
   for (int round = 0; round < 50; ++round) {
     std::string junk(1 + random() % 3000, '\0');
-    for (auto& c : junk) c = static_cast<char>(random());
+    for (auto& c : junk) {
+      c = static_cast<char>(random());
+    }
     RawClient client(port());
     client.try_send(junk);
     client.try_send("\r\n\r\n");
@@ -159,7 +161,9 @@ TEST_F(ServerTest, UnsupportedHttpVersionGets505) {
 }
 
 TEST_F(ServerTest, ClientsThatResetMidAnswerDoNotHurtTheServer) {
-  for (int i = 0; i < 2000; ++i) agent_->add("item" + std::to_string(i % 500), std::to_string(i));
+  for (int i = 0; i < 2000; ++i) {
+    agent_->add("item" + std::to_string(i % 500), std::to_string(i));
+  }
   for (int round = 0; round < 50; ++round) {
     RawClient client(port());
     client.send(get_request("/sample?from=1") + get_request("/current"));
@@ -176,7 +180,8 @@ TEST_F(ServerTest, ClientsThatResetMidAnswerDoNotHurtTheServer) {
 
 TEST_F(ServerTest, OversizedHeaderGets431AndClose) {
   RawClient client(port());
-  client.try_send("GET /current HTTP/1.1\r\nX-Big: " + std::string(16 * 1024, 'a') + "\r\n\r\n");
+  client.try_send("GET /current HTTP/1.1\r\nX-Big: " + std::string(std::size_t{16} * 1024, 'a') +
+                  "\r\n\r\n");
   const auto response = client.read_response();
   ASSERT_TRUE(response);
   EXPECT_EQ(response->status, 431);
@@ -252,7 +257,9 @@ TEST_F(ServerTest, ConnectionLimitAnswers503AndRecovers) {
   options.max_connections = 4;
   restart(options);
   std::vector<std::unique_ptr<RawClient>> held;
-  for (int i = 0; i < 4; ++i) held.push_back(std::make_unique<RawClient>(port()));
+  for (int i = 0; i < 4; ++i) {
+    held.push_back(std::make_unique<RawClient>(port()));
+  }
   ASSERT_TRUE(eventually([&] { return server_->connection_count() == 4; }));
   RawClient extra(port());
   const auto refused = extra.read_response();
@@ -277,12 +284,16 @@ TEST_F(ServerTest, ManyConcurrentClientsAllGetAnswers) {
       for (int i = 0; i < 25; ++i) {
         client.send(get_request("/current"));
         const auto response = client.read_response(10s);
-        if (response && response->status == 200) ++ok;
+        if (response && response->status == 200) {
+          ++ok;
+        }
       }
       return ok;
     }));
   }
-  for (auto& client : clients) EXPECT_EQ(client.get(), 25);
+  for (auto& client : clients) {
+    EXPECT_EQ(client.get(), 25);
+  }
 }
 
 TEST_F(ServerTest, StopClosesIdleConnectionsPromptly) {

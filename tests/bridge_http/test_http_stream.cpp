@@ -59,7 +59,9 @@ TEST_F(StreamTest, PartsFollowTheValuesAsTheyChange) {
     while (seen.empty() || seen.back() != value) {
       const auto part = client->read_part(5s);
       ASSERT_TRUE(part) << "no part for " << value;
-      for (auto& v : values_of(*part, "door")) seen.push_back(v);
+      for (auto& v : values_of(*part, "door")) {
+        seen.push_back(v);
+      }
     }
     EXPECT_EQ(seen.back(), value);
   }
@@ -104,7 +106,9 @@ TEST_F(StreamTest, IntervalLimitsThePartRate) {
   ASSERT_TRUE(client->read_part());
   auto last = Clock::now();
   std::size_t events = 0;
-  for (int i = 0; i < 20; ++i) agent_->add("n", std::to_string(i));
+  for (int i = 0; i < 20; ++i) {
+    agent_->add("n", std::to_string(i));
+  }
   while (events < 20) {
     const auto part = client->read_part(5s);
     ASSERT_TRUE(part);
@@ -179,7 +183,9 @@ TEST_F(StreamTest, ManyStreamsEachSeeEveryValue) {
     clients.push_back(open("/sample?interval=0&heartbeat=10000"));
     ASSERT_TRUE(clients.back()->read_part());
   }
-  for (int i = 0; i < 5; ++i) agent_->add("n", std::to_string(i));
+  for (int i = 0; i < 5; ++i) {
+    agent_->add("n", std::to_string(i));
+  }
   for (auto& client : clients) {
     std::size_t events = 0;
     while (events < 5) {
@@ -199,7 +205,7 @@ TEST_F(StreamTest, StalledStreamReaderIsDroppedAfterTheWriteTimeout) {
   ASSERT_TRUE(client->read_part());
   // The client stops reading; large parts fill the socket buffers until a
   // write cannot finish in time, and the server lets the client go.
-  const std::string big(64 * 1024, 'x');
+  const std::string big(std::size_t{64} * 1024, 'x');
   bool dropped = false;
   for (int i = 0; i < 400 && !dropped; ++i) {
     agent_->add("blob", big);

@@ -30,7 +30,9 @@ struct Setting {
 
 std::string_view trim(std::string_view text) {
   const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string_view::npos) return {};
+  if (first == std::string_view::npos) {
+    return {};
+  }
   const auto last = text.find_last_not_of(" \t\r");
   return text.substr(first, last - first + 1);
 }
@@ -61,8 +63,12 @@ std::vector<std::string_view> split_list(std::string_view value) {
   while (start <= value.size()) {
     const auto end = value.find_first_of(", \t", start);
     const auto item = value.substr(start, end == std::string_view::npos ? end : end - start);
-    if (!item.empty()) items.push_back(item);
-    if (end == std::string_view::npos) break;
+    if (!item.empty()) {
+      items.push_back(item);
+    }
+    if (end == std::string_view::npos) {
+      break;
+    }
     start = end + 1;
   }
   return items;
@@ -72,8 +78,12 @@ std::vector<std::string_view> split_list(std::string_view value) {
 std::string_view strip_comment(std::string_view line) {
   bool quoted = false;
   for (std::size_t i = 0; i < line.size(); ++i) {
-    if (line[i] == '"') quoted = !quoted;
-    if (line[i] == '#' && !quoted) return line.substr(0, i);
+    if (line[i] == '"') {
+      quoted = !quoted;
+    }
+    if (line[i] == '#' && !quoted) {
+      return line.substr(0, i);
+    }
   }
   return line;
 }
@@ -114,7 +124,9 @@ void set_schema_version(BridgeConfig& c, std::string_view v, const std::string& 
 }
 
 void set_sender(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  if (!is_printable(v)) fail(origin, "Sender contains control characters");
+  if (!is_printable(v)) {
+    fail(origin, "Sender contains control characters");
+  }
   c.sender = std::string(v);
 }
 
@@ -128,7 +140,9 @@ void set_domain_ids(BridgeConfig& c, std::string_view v, const std::string& orig
     }
     ids.push_back(id);
   }
-  if (ids.empty()) fail(origin, "DomainIds needs at least one domain id");
+  if (ids.empty()) {
+    fail(origin, "DomainIds needs at least one domain id");
+  }
   c.domain_ids = std::move(ids);
 }
 
@@ -137,13 +151,17 @@ void set_qos_profile(BridgeConfig& c, std::string_view v, const std::string& ori
     return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
            ch == '_' || ch == '-' || ch == '.';
   });
-  if (!ok) fail(origin, "QosProfile must be a preset name, not '" + std::string(v) + "'");
+  if (!ok) {
+    fail(origin, "QosProfile must be a preset name, not '" + std::string(v) + "'");
+  }
   c.qos_profile = std::string(v);
 }
 
 void set_device_filter(BridgeConfig& c, std::string_view v, const std::string&) {
   c.device_filter.clear();
-  for (auto item : split_list(v)) c.device_filter.emplace_back(item);
+  for (auto item : split_list(v)) {
+    c.device_filter.emplace_back(item);
+  }
 }
 
 void set_io_threads(BridgeConfig& c, std::string_view v, const std::string& origin) {
@@ -225,15 +243,21 @@ constexpr std::array<Setting, 19> kSettings{{
 
 const Setting* find_key(std::string_view key) {
   for (const auto& setting : kSettings) {
-    if (setting.key == key) return &setting;
+    if (setting.key == key) {
+      return &setting;
+    }
   }
   return nullptr;
 }
 
 const Setting* find_flag(std::string_view flag) {
-  if (flag == "--bind") flag = "--server-ip";
+  if (flag == "--bind") {
+    flag = "--server-ip";
+  }
   for (const auto& setting : kSettings) {
-    if (!setting.flag.empty() && setting.flag == flag) return &setting;
+    if (!setting.flag.empty() && setting.flag == flag) {
+      return &setting;
+    }
   }
   return nullptr;
 }
@@ -244,8 +268,12 @@ void apply_config_value(BridgeConfig& config, std::string_view key, std::string_
                         std::string_view origin) {
   const std::string where(origin);
   const Setting* setting = find_key(key);
-  if (setting == nullptr) fail(where, "unknown key '" + std::string(key) + "'");
-  if (value.empty()) fail(where, "empty value for " + std::string(key));
+  if (setting == nullptr) {
+    fail(where, "unknown key '" + std::string(key) + "'");
+  }
+  if (value.empty()) {
+    fail(where, "empty value for " + std::string(key));
+  }
   setting->set(config, value, where);
 }
 
@@ -255,23 +283,32 @@ void parse_config_text(BridgeConfig& config, std::string_view text, std::string_
   std::size_t start = 0;
   while (start < text.size()) {
     auto end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
+    if (end == std::string_view::npos) {
+      end = text.size();
+    }
     std::string_view line = text.substr(start, end - start);
     start = end + 1;
     ++number;
     const std::string where = std::string(name) + ":" + std::to_string(number);
-    if (line.find('\0') != std::string_view::npos) fail(where, "binary data in config file");
+    if (line.find('\0') != std::string_view::npos) {
+      fail(where, "binary data in config file");
+    }
     line = trim(strip_comment(line));
-    if (line.empty()) continue;
+    if (line.empty()) {
+      continue;
+    }
     if (line.find_first_of("{}") != std::string_view::npos) {
       fail(where, "blocks ('Name { ... }') are not supported by mtc-bridge");
     }
     const auto eq = line.find('=');
-    if (eq == std::string_view::npos)
+    if (eq == std::string_view::npos) {
       fail(where, "expected 'Key = Value', got '" + std::string(line) + "'");
+    }
     const auto key = trim(line.substr(0, eq));
     auto value = trim(line.substr(eq + 1));
-    if (key.empty()) fail(where, "missing key before '='");
+    if (key.empty()) {
+      fail(where, "missing key before '='");
+    }
     if (value.size() >= 2 && value.front() == '"' && value.back() == '"') {
       value = value.substr(1, value.size() - 2);
     }
@@ -285,10 +322,14 @@ void parse_config_text(BridgeConfig& config, std::string_view text, std::string_
 
 void load_config_file(BridgeConfig& config, const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path + ": cannot open config file");
+  if (!in) {
+    throw ConfigError(path + ": cannot open config file");
+  }
   std::ostringstream text;
   text << in.rdbuf();
-  if (in.bad()) throw ConfigError(path + ": cannot read config file");
+  if (in.bad()) {
+    throw ConfigError(path + ": cannot read config file");
+  }
   parse_config_text(config, text.str(), path);
 }
 
@@ -302,7 +343,9 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       continue;
     }
     if (arg.substr(0, 2) != "--") {
-      if (!result.config_file.empty()) fail(std::string(arg), "only one config file may be given");
+      if (!result.config_file.empty()) {
+        fail(std::string(arg), "only one config file may be given");
+      }
       result.config_file = std::string(arg);
       continue;
     }
@@ -319,18 +362,26 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       fail(std::string(flag), "unknown option (see --help)");
     }
     if (!has_value) {
-      if (i + 1 >= argc) fail(std::string(flag), "needs a value");
+      if (i + 1 >= argc) {
+        fail(std::string(flag), "needs a value");
+      }
       value = argv[++i];
     }
     if (setting == nullptr) {
-      if (!result.config_file.empty()) fail("--config", "only one config file may be given");
+      if (!result.config_file.empty()) {
+        fail("--config", "only one config file may be given");
+      }
       result.config_file = value;
     } else {
       overrides.emplace_back(setting, std::move(value));
     }
   }
-  if (result.help) return result;
-  if (!result.config_file.empty()) load_config_file(result.config, result.config_file);
+  if (result.help) {
+    return result;
+  }
+  if (!result.config_file.empty()) {
+    load_config_file(result.config, result.config_file);
+  }
   for (const auto& [setting, value] : overrides) {
     apply_config_value(result.config, setting->key, value, setting->flag);
   }
@@ -344,7 +395,9 @@ std::string usage_text(std::string_view program) {
       << "interfaces published on DDS. Options override the config file; each one\n"
       << "matches a `Key = Value` line of the file.\n\n";
   for (const auto& setting : kSettings) {
-    if (setting.flag.empty()) continue;
+    if (setting.flag.empty()) {
+      continue;
+    }
     std::string left = "  " + std::string(setting.flag) + " VALUE";
     left.resize(std::max<std::size_t>(left.size() + 1, 32), ' ');
     out << left << std::string(setting.key) << ": " << setting.help << "\n";

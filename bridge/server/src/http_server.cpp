@@ -25,8 +25,12 @@ struct HttpServer::Impl {
         acceptor(ioc),
         retry_timer(ioc),
         shared(std::make_shared<detail::ServerShared>()) {
-    if (!agent) throw std::invalid_argument("HttpServer: no agent");
-    if (options.io_threads == 0) options.io_threads = 1;
+    if (!agent) {
+      throw std::invalid_argument("HttpServer: no agent");
+    }
+    if (options.io_threads == 0) {
+      options.io_threads = 1;
+    }
     shared->agent = std::move(agent);
     shared->options = std::move(options);
   }
@@ -81,13 +85,17 @@ void HttpServer::Impl::accept() {
 }
 
 void HttpServer::Impl::on_accept(const boost::system::error_code& ec, tcp::socket socket) {
-  if (ec == asio::error::operation_aborted || shared->stopping) return;
+  if (ec == asio::error::operation_aborted || shared->stopping) {
+    return;
+  }
   if (ec) {
     // Out of descriptors or a connection reset before accept: wait a bit
     // instead of spinning, then keep serving.
     retry_timer.expires_after(std::chrono::milliseconds(50));
     retry_timer.async_wait([this](const boost::system::error_code& wait_ec) {
-      if (!wait_ec && !shared->stopping) accept();
+      if (!wait_ec && !shared->stopping) {
+        accept();
+      }
     });
     return;
   }
@@ -98,7 +106,9 @@ void HttpServer::Impl::on_accept(const boost::system::error_code& ec, tcp::socke
     busy = shared->sessions.size() >= shared->options.max_connections;
     const std::uint64_t id = busy ? 0 : shared->next_id++;
     session = std::make_shared<detail::Session>(std::move(socket), shared, id);
-    if (!busy) shared->sessions.emplace(id, session);
+    if (!busy) {
+      shared->sessions.emplace(id, session);
+    }
   }
   // Start on the connection's strand, not the acceptor's thread.
   auto executor = session->executor();
@@ -122,7 +132,9 @@ HttpServer::~HttpServer() {
 }
 
 void HttpServer::start() {
-  if (impl_->started) return;
+  if (impl_->started) {
+    return;
+  }
   impl_->started = true;
   impl_->work.emplace(impl_->ioc.get_executor());
   impl_->accept();
@@ -132,7 +144,9 @@ void HttpServer::start() {
 }
 
 void HttpServer::stop() {
-  if (!impl_ || impl_->stopped) return;
+  if (!impl_ || impl_->stopped) {
+    return;
+  }
   impl_->stopped = true;
   auto& shared = *impl_->shared;
   shared.stopping = true;
@@ -145,7 +159,9 @@ void HttpServer::stop() {
   {
     std::lock_guard<std::mutex> lock(shared.mutex);
     for (auto& entry : shared.sessions) {
-      if (auto session = entry.second.lock()) open.push_back(std::move(session));
+      if (auto session = entry.second.lock()) {
+        open.push_back(std::move(session));
+      }
     }
   }
   for (auto& session : open) {
@@ -155,7 +171,9 @@ void HttpServer::stop() {
   // Sessions finish their last writes (bounded by timeouts); then run()
   // returns because no work is left.
   impl_->work.reset();
-  for (auto& thread : impl_->threads) thread.join();
+  for (auto& thread : impl_->threads) {
+    thread.join();
+  }
   impl_->threads.clear();
   if (!impl_->started) {
     boost::system::error_code ec;

@@ -23,7 +23,7 @@ constexpr std::size_t kReadChunk = 4096;
 // How long a connection we answered with an error may keep sending before
 // we close it; draining first keeps the error from being lost to a reset.
 constexpr std::chrono::milliseconds kLingerTimeout{1000};
-constexpr std::size_t kLingerLimit = 64 * 1024;
+constexpr std::size_t kLingerLimit = std::size_t{64} * 1024;
 // Final boundary of a stream at shutdown: a client that does not take it
 // quickly is simply closed.
 constexpr std::chrono::milliseconds kStreamEndTimeout{1000};
@@ -38,13 +38,19 @@ bool is_quiet_close(const beast::error_code& ec) {
 // Whether the query of `target` names parameter `name`.
 bool has_query_parameter(std::string_view target, std::string_view name) {
   const auto question = target.find('?');
-  if (question == std::string_view::npos) return false;
+  if (question == std::string_view::npos) {
+    return false;
+  }
   std::string_view query = target.substr(question + 1);
   while (!query.empty()) {
     const auto amp = query.find('&');
     const auto pair = query.substr(0, amp);
-    if (pair.substr(0, pair.find('=')) == name) return true;
-    if (amp == std::string_view::npos) break;
+    if (pair.substr(0, pair.find('=')) == name) {
+      return true;
+    }
+    if (amp == std::string_view::npos) {
+      break;
+    }
     query.remove_prefix(amp + 1);
   }
   return false;
@@ -54,7 +60,9 @@ bool has_query_parameter(std::string_view target, std::string_view name) {
 // i.e. the client speaks a version we do not (Beast accepts only 1.0/1.1).
 bool names_other_http_version(std::string_view data) {
   const auto end = data.find("\r\n");
-  if (end == std::string_view::npos || end < 8) return false;
+  if (end == std::string_view::npos || end < 8) {
+    return false;
+  }
   const auto version = data.substr(end - 8, 8);
   auto digit = [](char c) { return c >= '0' && c <= '9'; };
   return version.substr(0, 5) == "HTTP/" && digit(version[5]) && version[6] == '.' &&
@@ -144,15 +152,16 @@ void Session::on_header(beast::error_code ec) {
     handle_request();
     return;
   }
-  if (is_quiet_close(ec) || closed_) {
-    close();  // client went away or stalled: nobody to answer
-  } else if (ec == http::error::header_limit || ec == http::error::buffer_overflow) {
+  // Answer what can be answered; a client that left or stalled gets nothing.
+  const bool answerable = !closed_ && !is_quiet_close(ec);
+  if (answerable && (ec == http::error::header_limit || ec == http::error::buffer_overflow)) {
     answer_error(431, "INVALID_REQUEST", "request line and headers exceed the size limit");
-  } else if (ec == http::error::bad_version &&
+  } else if (answerable && ec == http::error::bad_version &&
              names_other_http_version(
                  {static_cast<const char*>(buffer_.data().data()), buffer_.size()})) {
     answer_error(505, "INVALID_REQUEST", "only HTTP/1.0 and HTTP/1.1 are served");
-  } else if (ec.category() == http::make_error_code(http::error::bad_target).category()) {
+  } else if (answerable &&
+             ec.category() == http::make_error_code(http::error::bad_target).category()) {
     answer_error(400, "INVALID_REQUEST", "malformed HTTP request: " + ec.message());
   } else {
     close();
@@ -206,7 +215,9 @@ void Session::answer(Response response, bool keep_alive, bool head_only) {
   fields.keep_alive = keep_alive;
   fields.server_name = shared_->options.server_name;
   write_head(head_, fields);
-  if (head_only) body_.clear();
+  if (head_only) {
+    body_.clear();
+  }
 
   stream_.expires_after(shared_->options.write_timeout);
   const std::array<asio::const_buffer, 2> buffers{asio::buffer(head_), asio::buffer(body_)};
@@ -271,7 +282,9 @@ void Session::linger_close() {
 }
 
 void Session::close() {
-  if (closed_) return;
+  if (closed_) {
+    return;
+  }
   closed_ = true;
   if (stream_state_) {
     stream_state_->timer.cancel();
@@ -291,7 +304,9 @@ void Session::reject_busy() {
 }
 
 void Session::shutdown() {
-  if (closed_) return;
+  if (closed_) {
+    return;
+  }
   if (!stream_state_) {
     close();
     return;
@@ -306,7 +321,9 @@ void Session::shutdown() {
   // slow to take it, in which case the connection is simply closed.
   state.timer.expires_after(kStreamEndTimeout);
   state.timer.async_wait([self = shared_from_this()](beast::error_code ec) {
-    if (!ec) self->close();
+    if (!ec) {
+      self->close();
+    }
   });
 }
 
@@ -347,7 +364,9 @@ void Session::read_until_eof() {
 }
 
 void Session::on_wake() {
-  if (!stream_state_) return;
+  if (!stream_state_) {
+    return;
+  }
   stream_state_->wake_pending.store(false);
   pump();
 }
@@ -356,9 +375,13 @@ void Session::on_wake() {
 // after the last part; with nothing new, a heartbeat after `heartbeat`;
 // /current?interval parts come every interval regardless.
 void Session::pump() {
-  if (closed_ || !stream_state_) return;
+  if (closed_ || !stream_state_) {
+    return;
+  }
   auto& state = *stream_state_;
-  if (state.writing || state.ended) return;
+  if (state.writing || state.ended) {
+    return;
+  }
   if (state.ending) {
     write_stream_end();
     return;
@@ -376,11 +399,15 @@ void Session::pump() {
 
 void Session::arm_timer(Clock::time_point due) {
   auto& state = *stream_state_;
-  if (state.armed_for == due) return;
+  if (state.armed_for == due) {
+    return;
+  }
   state.armed_for = due;
   state.timer.expires_at(due);
   state.timer.async_wait([self = shared_from_this()](beast::error_code ec) {
-    if (ec == asio::error::operation_aborted) return;
+    if (ec == asio::error::operation_aborted) {
+      return;
+    }
     self->stream_state_->armed_for = Clock::time_point::max();
     self->pump();
   });

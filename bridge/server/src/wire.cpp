@@ -51,7 +51,9 @@ void append_status_line(std::string& out, unsigned version, int status) {
 std::string_view reason_phrase(int status) noexcept {
   auto reason = boost::beast::http::obsolete_reason(
       boost::beast::http::int_to_status(static_cast<unsigned>(status)));
-  if (reason.empty() || reason == "<unknown-status>") return "Unknown";
+  if (reason.empty() || reason == "<unknown-status>") {
+    return "Unknown";
+  }
   return {reason.data(), reason.size()};
 }
 

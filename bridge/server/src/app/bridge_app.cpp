@@ -42,7 +42,9 @@ ServerOptions server_options(const BridgeConfig& config,
     Response response;
     response.status = status;
     const auto locked = weak.lock();
-    if (!locked) return response;
+    if (!locked) {
+      return response;
+    }
     HeaderInfo header;
     header.instance_id = locked->instance_id();
     header.sender = sender;
@@ -66,7 +68,9 @@ BridgeApp::BridgeApp(const BridgeConfig& config)
 
 BridgeApp::~BridgeApp() {
   observers_.clear();  // no more intake before the server goes
-  if (server_) server_->stop();
+  if (server_) {
+    server_->stop();
+  }
 }
 
 void BridgeApp::observe_domains() {
@@ -100,7 +104,9 @@ void BridgeApp::run(std::ostream& log) {
   boost::asio::signal_set signals(signals_context, SIGINT, SIGTERM);
   int received = 0;
   signals.async_wait([&](const boost::system::error_code& ec, int signal) {
-    if (!ec) received = signal;
+    if (!ec) {
+      received = signal;
+    }
   });
   server_->start();
 
