@@ -132,6 +132,25 @@ TEST(BridgeProcess, ServesThenStopsCleanlyOnSigterm) {
   EXPECT_NE(bridge.process().out().find("mtc-bridge: stopped"), std::string::npos);
 }
 
+TEST(BridgeProcess, ServesADevicesFileWithItsSchemaVersion) {
+  const auto cfg = write_temp("bridge_devices.cfg", std::string("Devices = ") + MTC_DEVICES_DIR +
+                                                        "/cell_2.0.xml\nDomainIds = 81\n");
+  RunningBridge bridge({"--config", cfg});
+  ASSERT_NE(bridge.port(), 0);
+  EXPECT_NE(bridge.process().out().find("MTConnect 2.0"), std::string::npos);
+  const auto probe = bridge.get("/probe");
+  ASSERT_TRUE(probe);
+  EXPECT_EQ(probe->status, 200);
+  pugi::xml_document doc;
+  ASSERT_TRUE(doc.load_string(probe->body.c_str()));
+  EXPECT_TRUE(doc.select_node("//*[local-name()='Device' and @uuid]"));
+  // Items no device has published yet read UNAVAILABLE.
+  const auto current = bridge.get("/current");
+  ASSERT_TRUE(current);
+  EXPECT_NE(current->body.find("UNAVAILABLE"), std::string::npos);
+  std::remove(cfg.c_str());
+}
+
 TEST(BridgeProcess, ABusyPortExitsOne) {
   RunningBridge first({"--domain-ids", "81"});
   ASSERT_NE(first.port(), 0);
