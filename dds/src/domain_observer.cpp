@@ -23,6 +23,7 @@ struct WriterInfo {
   std::string device;
   bool description = false;
   std::set<std::string> items;
+  std::int64_t last_ns = 0;  // last reception from this writer
 };
 
 }  // namespace
@@ -57,6 +58,7 @@ struct DomainObserver::Impl {
     auto& w = writers[e.writer];
     w.device = v.device_uuid;
     w.items.insert(v.data_item_id);
+    w.last_ns = v.reception_time_ns;
     instances[{e.topic, e.instance}] = {v.device_uuid, v.data_item_id};
     lost_items.erase({v.device_uuid, v.data_item_id});
     if (callbacks.on_value) callbacks.on_value(v);
@@ -68,6 +70,7 @@ struct DomainObserver::Impl {
     auto& w = writers[e.writer];
     w.device = d.device_uuid;
     w.description = true;
+    w.last_ns = topics::realtime_ns();
     instances[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, ""};
     lost_devices.erase(d.device_uuid);
     {
@@ -105,6 +108,10 @@ struct DomainObserver::Impl {
     if (e.alive) return;  // values resume with the next sample
     const auto it = writers.find(e.writer);
     if (it == writers.end()) return;
+    // A lease expiry always follows about a lease of silence; an earlier one
+    // is spurious (an unmatched writer, though, is gone at once).
+    const auto silence = std::chrono::nanoseconds(topics::realtime_ns() - it->second.last_ns);
+    if (!e.unmatched && silence < options.timing.lease() / 2) return;
     if (it->second.description) {
       device_lost(it->second.device);
     } else {

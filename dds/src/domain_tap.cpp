@@ -93,7 +93,7 @@ class TapListener final : public fdds::DataReaderListener {
   void on_subscription_matched(fdds::DataReader*,
                                const fdds::SubscriptionMatchedStatus& status) override {
     if (status.current_count_change < 0) {
-      sink_(WriterLivelinessEvent{kind_, to_handle(status.last_publication_handle), false});
+      sink_(WriterLivelinessEvent{kind_, to_handle(status.last_publication_handle), false, true});
     }
   }
   void on_requested_deadline_missed(fdds::DataReader*,

@@ -53,6 +53,7 @@ struct WriterLivelinessEvent {
   TopicKind topic;
   Handle writer;
   bool alive;
+  bool unmatched = false;  // the writer went away (deleted, participant gone)
 };
 struct DeadlineMissedEvent {
   TopicKind topic;

@@ -17,11 +17,12 @@ void EquipmentImpl::on_event(detail::TapEvent& event) {
         } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
           on_device(e);
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
-          on_gone(e.topic, e.instance, "disposed or no writers");
+          on_gone(e.topic, e.instance, "disposed or no writers", false);
         } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
-          if (!e.alive) on_writer_lost(e.writer, "writer liveliness lost or unmatched");
+          if (!e.alive && e.unmatched) on_writer_lost(e.writer, "writer unmatched", false);
+          if (!e.alive && !e.unmatched) on_writer_lost(e.writer, "writer liveliness lost", true);
         } else if constexpr (std::is_same_v<T, detail::DeadlineMissedEvent>) {
-          on_gone(e.topic, e.instance, "deadline missed");
+          on_gone(e.topic, e.instance, "deadline missed", true);
         } else {
           diagnostic(std::string("a peer's writer on ") + detail::topic_name(e.topic) +
                      " offers incompatible QoS (policy id " + e.policy +
@@ -76,7 +77,9 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
   const auto& d = e.device;
   if (d.device_uuid == options.device_uuid) return;
   writer_device[e.writer] = d.device_uuid;
-  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", ""};
+  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "",
+                                                               topics::realtime_ns()};
+  writer_last_ns[e.writer] = topics::realtime_ns();
   for (auto& itf : interfaces) {
     if (itf->link.load() != LinkState::Unpaired) continue;
     const auto& spec = itf->config.counterpart;
@@ -95,7 +98,9 @@ void EquipmentImpl::on_value(detail::ValueEvent& e) {
   auto& v = e.value;
   if (v.device_uuid == options.device_uuid) return;
   writer_device[e.writer] = v.device_uuid;
-  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id};
+  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id,
+                                          v.reception_time_ns};
+  writer_last_ns[e.writer] = v.reception_time_ns;
   // A change number that skips ahead means this writer changed something we
   // never saw (KEEP_LAST 1 replaced it before delivery, e.g. after a loss).
   auto& last = writer_seq[e.writer];
@@ -168,10 +173,28 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
   try_issue(slot, now);
 }
 
-void EquipmentImpl::on_gone(TopicKind topic, const detail::Handle& instance, const char* cause) {
+// A lease or deadline event for something we heard from well within the
+// lease is not a loss: Fast DDS 2.9 occasionally raises a deadline miss for
+// an instance right after its first samples. A real loss always comes after
+// about a lease of silence.
+bool EquipmentImpl::recently_heard(std::int64_t last_ns, const std::string& what) {
+  const auto silence = std::chrono::nanoseconds(topics::realtime_ns() - last_ns);
+  if (last_ns != 0 && silence < options.timing.lease() / 2) {
+    diagnostic("ignored " + what + " after only " +
+               std::to_string(silence.count() / 1000000) + " ms of silence");
+    return true;
+  }
+  return false;
+}
+
+void EquipmentImpl::on_gone(TopicKind topic, const detail::Handle& instance, const char* cause,
+                            bool check_silence) {
   const auto it = instance_item.find({topic, instance});
   if (it == instance_item.end()) return;
   const auto& owner = it->second;
+  if (check_silence && recently_heard(owner.last_ns, std::string(cause) + " of " + owner.item)) {
+    return;
+  }
   for (auto& itf : interfaces) {
     if (itf->cp_uuid != owner.device) continue;
     if (topic == TopicKind::DeviceDescription) {
@@ -182,9 +205,14 @@ void EquipmentImpl::on_gone(TopicKind topic, const detail::Handle& instance, con
   }
 }
 
-void EquipmentImpl::on_writer_lost(const detail::Handle& writer, const char* cause) {
+void EquipmentImpl::on_writer_lost(const detail::Handle& writer, const char* cause,
+                                   bool check_silence) {
   const auto it = writer_device.find(writer);
   if (it == writer_device.end()) return;
+  if (check_silence && recently_heard(writer_last_ns[writer], std::string(cause) + " of " +
+                                                                  it->second)) {
+    return;
+  }
   for (auto& itf : interfaces) {
     if (itf->cp_uuid == it->second) link_lost(*itf, cause);
   }

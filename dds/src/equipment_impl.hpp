@@ -93,7 +93,9 @@ struct EquipmentImpl {
     std::string device;
     std::string interface_id;
     std::string item;
+    std::int64_t last_ns = 0;  // last reception of this instance
   };
+  std::map<detail::Handle, std::int64_t> writer_last_ns;  // last reception per writer
   std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
   std::map<detail::Handle, std::uint64_t> writer_seq;  // last change number per writer
 
@@ -149,8 +151,10 @@ struct EquipmentImpl {
   void feed_counterpart(ServiceSlot& slot, const ObservedValue& v, bool missed_change);
   void bind_configured();
   void on_device(detail::DeviceEvent& e);
-  void on_gone(detail::TopicKind topic, const detail::Handle& instance, const char* cause);
-  void on_writer_lost(const detail::Handle& writer, const char* cause);
+  void on_gone(detail::TopicKind topic, const detail::Handle& instance, const char* cause,
+               bool check_silence);
+  void on_writer_lost(const detail::Handle& writer, const char* cause, bool check_silence);
+  bool recently_heard(std::int64_t last_ns, const std::string& what);
   void link_lost(InterfaceSlot& itf, const std::string& cause);
   void link_up(InterfaceSlot& itf, const char* cause);
   void set_link(InterfaceSlot& itf, LinkState next, const std::string& cause);

@@ -53,7 +53,9 @@ TEST(Equipment, EveryServiceCompletesAHandshake) {
     auto result = requesters[i]->request(wait);
     ASSERT_EQ(result.wait_for(kTimeout), std::future_status::ready);
     const auto r = result.get();
-    EXPECT_EQ(r.outcome, Outcome::Completed) << core::describe(r.reason);
+    EXPECT_EQ(r.outcome, Outcome::Completed) << core::describe(r.reason) << "\ncnc:\n"
+                                             << cell.cnc_rec.dump() << "robot:\n"
+                                             << cell.robot_rec.dump();
     EXPECT_EQ(requesters[i]->state(), InteractionState::Ready);
     // Steps 7-8: the responder returns to READY once it sees the request READY.
     EXPECT_TRUE(cell.robot_rec.wait_state(*responders[i], InteractionState::Ready));
