@@ -5,7 +5,10 @@
 #include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 
+#include <stdexcept>
+
 #include "mtc/qos/endpoint_qos.hpp"
+#include "mtc/qos/presets.hpp"
 
 namespace mtc::qos {
 
@@ -66,6 +69,39 @@ fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
       break;
   }
   return q;
+}
+
+ParticipantConfig participant_config(std::string_view profile_name, const Timing& timing) {
+  ParticipantConfig config;
+  config.timing = timing;
+  if (profile_name == kLoopbackParticipantProfile) {
+    config.transport = Transport::Loopback;
+  } else if (profile_name == kLoopbackUdpParticipantProfile) {
+    config.transport = Transport::LoopbackUdp;
+  } else {
+    throw std::invalid_argument("unknown participant profile '" + std::string(profile_name) +
+                                "' (known: " + std::string(kLoopbackParticipantProfile) + ", " +
+                                std::string(kLoopbackUdpParticipantProfile) + ")");
+  }
+  return config;
+}
+
+std::optional<Transport> parse_transport(std::string_view text) noexcept {
+  if (text == "loopback") return Transport::Loopback;
+  if (text == "loopback-udp") return Transport::LoopbackUdp;
+  if (text == "test") return Transport::LoopbackTest;
+  if (text == "builtin") return Transport::Builtin;
+  return std::nullopt;
+}
+
+std::string_view to_string(Transport t) noexcept {
+  switch (t) {
+    case Transport::Loopback: return "loopback";
+    case Transport::LoopbackUdp: return "loopback-udp";
+    case Transport::LoopbackTest: return "test";
+    case Transport::Builtin: return "builtin";
+  }
+  return "?";
 }
 
 void set_intraprocess_delivery(bool enabled) {

@@ -156,6 +156,17 @@ TEST_F(XmlProfiles, ParticipantProfilesAreLoopbackOnlyAndMatchCode) {
   expect_loopback_participant(std::string(mtc::qos::kLoopbackUdpParticipantProfile), false);
 }
 
+TEST(Profiles, ParticipantProfilesAndTransportNames) {
+  EXPECT_EQ(mtc::qos::participant_config("mtc.participant.loopback_udp").transport,
+            mtc::qos::Transport::LoopbackUdp);
+  EXPECT_THROW(mtc::qos::participant_config("nope"), std::invalid_argument);
+  for (auto t : {mtc::qos::Transport::Loopback, mtc::qos::Transport::LoopbackUdp,
+                 mtc::qos::Transport::LoopbackTest, mtc::qos::Transport::Builtin}) {
+    EXPECT_EQ(mtc::qos::parse_transport(mtc::qos::to_string(t)), t);
+  }
+  EXPECT_FALSE(mtc::qos::parse_transport("udp6").has_value());
+}
+
 TEST(Profiles, FilePathPointsAtAnExistingFile) {
   const auto path = mtc::qos::profiles_file_path();
   ASSERT_FALSE(path.empty());

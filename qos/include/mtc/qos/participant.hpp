@@ -12,7 +12,9 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
@@ -49,6 +51,15 @@ struct ParticipantConfig {
 
 // Builds the participant QoS; throws std::invalid_argument for a bad timing.
 eprosima::fastdds::dds::DomainParticipantQos participant_qos(const ParticipantConfig& config);
+
+// Named participant profiles, as in the XML file: "mtc.participant.loopback"
+// (UDPv4 127.0.0.1 + SHM) and "mtc.participant.loopback_udp"; throws
+// std::invalid_argument naming the known profiles otherwise.
+ParticipantConfig participant_config(std::string_view profile_name, const Timing& timing = {});
+
+// Command-line spellings: "loopback", "loopback-udp", "test", "builtin".
+std::optional<Transport> parse_transport(std::string_view text) noexcept;
+std::string_view to_string(Transport t) noexcept;
 
 // Intra-process delivery lets two participants of one process bypass every
 // transport. Fault-injection tests with two participants in one process must
