@@ -1,6 +1,7 @@
 #include "stations.hpp"
 
 #include <chrono>
+#include <functional>
 #include <set>
 #include <string>
 #include <thread>
@@ -34,7 +35,10 @@ using core::Service;
 using Clock = std::chrono::steady_clock;
 
 constexpr Millis kPoll{100};  // how often an idle unit re-checks for stop
-constexpr int kAttempts = 5;  // a step failing this often in a row stops the cell
+// A step failing this often in a row stops the cell: a real fault, not a
+// passing one. Generous, because loss-of-communication alarms under load
+// also fail steps (see README "Simulated cell").
+constexpr int kAttempts = 10;
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -60,10 +64,14 @@ struct Ctx {
 
 // Runs a blocking port call in slices of kPoll until it succeeds, `total`
 // has passed or the station is stopped, so Ctrl-C never waits on a timeout.
+// `abandon` (may be empty) ends the wait early too: the robot gives up a
+// door/chuck request once its own load/unload has been aborted.
+using Abandon = std::function<bool()>;
+
 template <class Step>
-bool in_slices(const Ctx& c, Millis total, Step step) {
+bool in_slices(const Ctx& c, Millis total, Step step, const Abandon& abandon = {}) {
   const auto deadline = Clock::now() + total;
-  while (!c.stop.stopped()) {
+  while (!c.stop.stopped() && !(abandon && abandon())) {
     if (step(kPoll)) return true;
     if (Clock::now() >= deadline) return false;
   }
@@ -79,11 +87,12 @@ void announce_fault(Ctx& c, const std::string& indent, const Fault& f) {
 // Requester side of one handshake, from raising the request to its end,
 // with the requester's own fault (scenario 3 or 4) injected when given.
 Outcome request_service(Ctx& c, Service s, const char* responder, const std::string& indent,
-                        const std::optional<Fault>& fault) {
+                        const std::optional<Fault>& fault, const Abandon& abandon = {}) {
   RequestPort& port = c.link.requester(s);
   const auto t0 = Clock::now();
-  if (!in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); })) {
-    if (!c.stop.stopped()) {
+  if (!in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); },
+                 abandon)) {
+    if (!c.stop.stopped() && !(abandon && abandon())) {
       c.say(format("%s%s: could not raise the request (%s not READY)", indent.c_str(),
                    name(s).c_str(), responder));
     }
@@ -307,9 +316,14 @@ JobEnd robot_job(Ctx& c, ResponsePort& port, bool load, int cycle) {
         c.take_fault(cycle, FaultPoint::RobotCollisionAtChuck)) {
       fault = describe(FaultPoint::RobotCollisionAtChuck, cycle);
     }
-    if (request_service(c, steps[i], "machine", "  ", fault) != Outcome::Completed) {
+    const Abandon aborted = [&port] { return port.cancelled(); };
+    if (request_service(c, steps[i], "machine", "  ", fault, aborted) != Outcome::Completed) {
       if (c.stop.stopped()) return JobEnd::Stopped;
       recover_request(c, steps[i], "  ");
+      if (port.cancelled()) {
+        c.say("  the machine left ACTIVE (or was lost): job aborted");
+        return JobEnd::Aborted;
+      }
       c.say(format("%s cannot go on: response FAIL (scenario 2)", load ? "load" : "unload"));
       port.fail();
       return JobEnd::Aborted;
