@@ -25,37 +25,55 @@ namespace {
 // Only async-signal-safe calls between fork and exec (the test process has threads).
 [[noreturn]] void exec_child(char* const* argv, int out_w, int err_w, pid_t parent) {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (getppid() != parent) _exit(127);
+  if (getppid() != parent) {
+    _exit(127);
+  }
   dup2(out_w, STDOUT_FILENO);
   dup2(err_w, STDERR_FILENO);
   sigset_t none;
   sigemptyset(&none);
-  sigprocmask(SIG_SETMASK, &none, nullptr);
+  // Single-threaded child between fork and exec: sigprocmask is what applies.
+  sigprocmask(SIG_SETMASK, &none, nullptr);  // NOLINT(concurrency-mt-unsafe)
   execv(argv[0], argv);
   _exit(127);
 }
 
 }  // namespace
 
-ChildProcess::ChildProcess(std::vector<std::string> argv) : argv_(std::move(argv)) {
+ChildProcess::ChildProcess(std::vector<std::string> argv)
+    : argv_(std::move(argv)),
+      // Read before fork, on the test's main thread.
+      verbose_(std::getenv("MTC_TEST_VERBOSE") != nullptr) {  // NOLINT(concurrency-mt-unsafe)
   std::vector<char*> cargv;
-  for (auto& a : argv_) cargv.push_back(a.data());
+  for (auto& a : argv_) {
+    cargv.push_back(a.data());
+  }
   cargv.push_back(nullptr);
   int out_pipe[2];
   int err_pipe[2];
-  if (pipe2(out_pipe, O_CLOEXEC) != 0) throw_errno("pipe2");
-  if (pipe2(err_pipe, O_CLOEXEC) != 0) throw_errno("pipe2");
+  if (pipe2(out_pipe, O_CLOEXEC) != 0) {
+    throw_errno("pipe2");
+  }
+  if (pipe2(err_pipe, O_CLOEXEC) != 0) {
+    throw_errno("pipe2");
+  }
   const pid_t parent = getpid();
   pid_ = fork();
-  if (pid_ < 0) throw_errno("fork");
-  if (pid_ == 0) exec_child(cargv.data(), out_pipe[1], err_pipe[1], parent);
+  if (pid_ < 0) {
+    throw_errno("fork");
+  }
+  if (pid_ == 0) {
+    exec_child(cargv.data(), out_pipe[1], err_pipe[1], parent);
+  }
   close(out_pipe[1]);
   close(err_pipe[1]);
   out_fd_ = out_pipe[0];
   err_fd_ = err_pipe[0];
   // Through syscall(): bookworm's <sys/pidfd.h> lacks C linkage for C++.
   pidfd_ = static_cast<int>(syscall(SYS_pidfd_open, pid_, 0));
-  if (pidfd_ < 0) throw_errno("pidfd_open");
+  if (pidfd_ < 0) {
+    throw_errno("pidfd_open");
+  }
 }
 
 ChildProcess::~ChildProcess() {
@@ -70,7 +88,9 @@ ChildProcess::~ChildProcess() {
     }
   }
   for (int fd : {out_fd_, err_fd_, pidfd_}) {
-    if (fd >= 0) close(fd);
+    if (fd >= 0) {
+      close(fd);
+    }
   }
 }
 
@@ -78,19 +98,27 @@ void ChildProcess::drain(int& fd, std::string& partial, bool is_stdout) {
   char buf[4096];
   const ssize_t n = read(fd, buf, sizeof buf);
   if (n <= 0) {
-    if (n < 0 && errno == EINTR) return;
+    if (n < 0 && errno == EINTR) {
+      return;
+    }
     close(fd);
     fd = -1;
-    if (!partial.empty() && is_stdout) out_lines_.push_back(partial);
+    if (!partial.empty() && is_stdout) {
+      out_lines_.push_back(partial);
+    }
     partial.clear();
     return;
   }
-  if (!is_stdout) err_text_.append(buf, static_cast<std::size_t>(n));
+  if (!is_stdout) {
+    err_text_.append(buf, static_cast<std::size_t>(n));
+  }
   partial.append(buf, static_cast<std::size_t>(n));
   std::size_t pos;
   while ((pos = partial.find('\n')) != std::string::npos) {
-    if (is_stdout) out_lines_.push_back(partial.substr(0, pos));
-    if (std::getenv("MTC_TEST_VERBOSE") != nullptr) {
+    if (is_stdout) {
+      out_lines_.push_back(partial.substr(0, pos));
+    }
+    if (verbose_) {
       std::fprintf(stderr, "[%d %s] %s\n", pid_, is_stdout ? "out" : "err",
                    partial.substr(0, pos).c_str());
     }
@@ -105,11 +133,21 @@ bool ChildProcess::pump(std::chrono::steady_clock::time_point deadline) {
     const auto left =
         std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
     const int rc = poll(fds, 2, static_cast<int>(std::max<long long>(0, left.count())));
-    if (rc < 0 && errno == EINTR) continue;
-    if (rc <= 0) return true;  // timeout: more may come later
-    if (fds[0].revents != 0) drain(out_fd_, out_partial_, true);
-    if (fds[1].revents != 0) drain(err_fd_, err_partial_, false);
-    if (out_lines_.size() != before) return true;
+    if (rc < 0 && errno == EINTR) {
+      continue;
+    }
+    if (rc <= 0) {
+      return true;  // timeout: more may come later
+    }
+    if (fds[0].revents != 0) {
+      drain(out_fd_, out_partial_, true);
+    }
+    if (fds[1].revents != 0) {
+      drain(err_fd_, err_partial_, false);
+    }
+    if (out_lines_.size() != before) {
+      return true;
+    }
   }
   return out_lines_.size() != before;
 }
@@ -121,22 +159,34 @@ std::optional<std::string> ChildProcess::wait_for_line(const std::vector<std::st
     for (; next_line_ < out_lines_.size(); ++next_line_) {
       const std::string& line = out_lines_[next_line_];
       bool all = true;
-      for (const auto& n : needles) all = all && line.find(n) != std::string::npos;
-      if (all) return out_lines_[next_line_++];
+      for (const auto& n : needles) {
+        all = all && line.find(n) != std::string::npos;
+      }
+      if (all) {
+        return out_lines_[next_line_++];
+      }
     }
-    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
-    if (!pump(deadline) && out_fd_ < 0) return std::nullopt;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      return std::nullopt;
+    }
+    if (!pump(deadline) && out_fd_ < 0) {
+      return std::nullopt;
+    }
   }
 }
 
 void ChildProcess::send_signal(int signal_number) {
-  if (running()) kill(pid_, signal_number);
+  if (running()) {
+    kill(pid_, signal_number);
+  }
 }
 
 void ChildProcess::reap(bool block) {
   int status = 0;
   const pid_t r = waitpid(pid_, &status, block ? 0 : WNOHANG);
-  if (r != pid_) return;
+  if (r != pid_) {
+    return;
+  }
   exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
@@ -145,7 +195,9 @@ std::optional<int> ChildProcess::wait_exit(milliseconds timeout) {
   // Output first (so nothing the child printed is lost), then the pidfd,
   // which becomes readable when the child terminates.
   while (out_fd_ >= 0 || err_fd_ >= 0) {
-    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      return std::nullopt;
+    }
     pump(deadline);
   }
   while (running()) {
@@ -153,8 +205,12 @@ std::optional<int> ChildProcess::wait_exit(milliseconds timeout) {
     const auto left =
         std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
     const int rc = poll(&p, 1, static_cast<int>(std::max<long long>(0, left.count())));
-    if (rc < 0 && errno == EINTR) continue;
-    if (rc == 0) return std::nullopt;
+    if (rc < 0 && errno == EINTR) {
+      continue;
+    }
+    if (rc == 0) {
+      return std::nullopt;
+    }
     reap(true);
   }
   return exit_code_;
@@ -162,10 +218,16 @@ std::optional<int> ChildProcess::wait_exit(milliseconds timeout) {
 
 std::string ChildProcess::transcript() const {
   std::string text = "$";
-  for (const auto& a : argv_) text += " " + a;
+  for (const auto& a : argv_) {
+    text += " " + a;
+  }
   text += "\n--- stdout ---\n";
-  for (const auto& l : out_lines_) text += l + "\n";
-  if (!out_partial_.empty()) text += out_partial_ + "\n";
+  for (const auto& l : out_lines_) {
+    text += l + "\n";
+  }
+  if (!out_partial_.empty()) {
+    text += out_partial_ + "\n";
+  }
   text += "--- stderr ---\n" + err_text_ + err_partial_;
   return text;
 }
@@ -173,12 +235,16 @@ std::string ChildProcess::transcript() const {
 std::optional<std::string> json_field(const std::string& line, const std::string& key) {
   const std::string quoted = "\"" + key + "\":";
   const auto pos = line.find(quoted);
-  if (pos == std::string::npos) return std::nullopt;
+  if (pos == std::string::npos) {
+    return std::nullopt;
+  }
   std::size_t i = pos + quoted.size();
   if (i < line.size() && line[i] == '"') {
     std::string value;
     for (++i; i < line.size() && line[i] != '"'; ++i) {
-      if (line[i] == '\\' && i + 1 < line.size()) ++i;
+      if (line[i] == '\\' && i + 1 < line.size()) {
+        ++i;
+      }
       value += line[i];
     }
     return value;

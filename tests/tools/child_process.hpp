@@ -62,6 +62,7 @@ class ChildProcess {
   std::vector<std::string> out_lines_;
   std::size_t next_line_ = 0;
   std::optional<int> exit_code_;
+  bool verbose_ = false;  // MTC_TEST_VERBOSE set: echo the child's lines to stderr
 };
 
 // Value of a string or number field in one of mtc's JSON lines

@@ -24,7 +24,9 @@ MtcRun run_mtc(std::vector<std::string> args) {
   ChildProcess child(args);
   const auto code = child.wait_exit(kExitTimeout);
   std::string out;
-  for (const auto& l : child.lines()) out += l + "\n";
+  for (const auto& l : child.lines()) {
+    out += l + "\n";
+  }
   return {code.value_or(-1), out, child.stderr_text()};
 }
 

@@ -35,7 +35,9 @@ bool is_subsequence(const std::vector<std::string>& wanted, const std::vector<st
   auto it = seen.begin();
   for (const auto& w : wanted) {
     it = std::find(it, seen.end(), w);
-    if (it == seen.end()) return false;
+    if (it == seen.end()) {
+      return false;
+    }
     ++it;
   }
   return true;
@@ -68,8 +70,9 @@ TEST_P(FailureScenario, BothSidesFailRecoverAndTheNextHandshakeCompletes) {
 
   const auto steps = transitions(*requester, 1);
   EXPECT_TRUE(is_subsequence(s.ordered, steps)) << requester->transcript();
-  for (const auto& a : s.absent)
+  for (const auto& a : s.absent) {
     EXPECT_FALSE(contains(steps, a)) << a << "\n" << requester->transcript();
+  }
   // Recovery: both sides back to READY before the outcome is reported.
   ASSERT_FALSE(steps.empty());
   EXPECT_TRUE(contains(steps, "request:READY")) << requester->transcript();

@@ -96,12 +96,18 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
   options.device_filter = {counterpart};
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_value = [&i, service, wanted](const dds::ObservedValue& v) {
-    if (v.service != service || v.sub_type != wanted) return;
+    if (v.service != service || v.sub_type != wanted) {
+      return;
+    }
     const auto parsed = core::parse_interaction_state(v.value);
-    if (!parsed) return;
+    if (!parsed) {
+      return;
+    }
     {
       std::lock_guard<std::mutex> lock(i.seen_mutex);
-      if (i.seen.empty() || i.seen.back() != *parsed) i.seen.push_back(*parsed);
+      if (i.seen.empty() || i.seen.back() != *parsed) {
+        i.seen.push_back(*parsed);
+      }
     }
     i.seen_cv.notify_all();
   };

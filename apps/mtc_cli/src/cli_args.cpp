@@ -9,7 +9,9 @@ namespace mtc::cli {
 
 std::optional<std::string> ParsedArgs::value(const std::string& name) const {
   auto it = values_.find(name);
-  if (it == values_.end() || it->second.empty()) return std::nullopt;
+  if (it == values_.end() || it->second.empty()) {
+    return std::nullopt;
+  }
   return it->second.back();
 }
 
@@ -27,7 +29,9 @@ namespace {
 
 const OptionSpec* find_option(const CommandSpec& spec, const std::string& name) {
   for (const auto& opt : spec.options) {
-    if (opt.name == name) return &opt;
+    if (opt.name == name) {
+      return &opt;
+    }
   }
   return nullptr;
 }
@@ -48,9 +52,13 @@ ParsedArgs parse_args(const CommandSpec& spec, const std::vector<std::string>& a
       name.resize(eq);
     }
     const OptionSpec* opt = find_option(spec, name);
-    if (opt == nullptr) throw UsageError("unknown option '--" + name + "'");
+    if (opt == nullptr) {
+      throw UsageError("unknown option '--" + name + "'");
+    }
     if (opt->value_name.empty()) {
-      if (inline_value) throw UsageError("option '--" + name + "' takes no value");
+      if (inline_value) {
+        throw UsageError("option '--" + name + "' takes no value");
+      }
       parsed.add(name, "");
       continue;
     }
@@ -72,9 +80,13 @@ std::string format_help(const CommandSpec& spec) {
   std::ostringstream out;
   out << "Usage: mtc " << spec.name << " [options]\n\n" << spec.description << "\n\nOptions:\n";
   for (const auto& opt : spec.options) {
-    if (opt.hidden) continue;
+    if (opt.hidden) {
+      continue;
+    }
     std::string left = "  --" + opt.name;
-    if (!opt.value_name.empty()) left += " " + opt.value_name;
+    if (!opt.value_name.empty()) {
+      left += " " + opt.value_name;
+    }
     out << left;
     const std::size_t column = 30;
     if (left.size() + 2 > column) {
@@ -83,11 +95,15 @@ std::string format_help(const CommandSpec& spec) {
       out << std::string(column - left.size(), ' ');
     }
     out << opt.help;
-    if (!opt.default_text.empty()) out << " [default: " << opt.default_text << "]";
+    if (!opt.default_text.empty()) {
+      out << " [default: " << opt.default_text << "]";
+    }
     out << "\n";
   }
   out << "  --help                      show this help and exit\n";
-  if (!spec.examples.empty()) out << "\nExamples:\n" << spec.examples;
+  if (!spec.examples.empty()) {
+    out << "\nExamples:\n" << spec.examples;
+  }
   return out.str();
 }
 
@@ -142,7 +158,9 @@ std::vector<std::string> split_list(const std::string& text) {
   std::string item;
   std::istringstream in(text);
   while (std::getline(in, item, ',')) {
-    if (!item.empty()) items.push_back(item);
+    if (!item.empty()) {
+      items.push_back(item);
+    }
   }
   return items;
 }

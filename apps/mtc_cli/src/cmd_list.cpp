@@ -39,11 +39,15 @@ class LatestValues {
 // Enough devices announced, and every announced item has a value.
 bool complete(const std::vector<dds::ObservedDevice>& devices, std::size_t expect,
               const LatestValues& latest) {
-  if (devices.size() < expect) return false;
+  if (devices.size() < expect) {
+    return false;
+  }
   for (const auto& d : devices) {
     for (const auto& itf : d.interfaces) {
       for (const auto& di : itf.data_items) {
-        if (!latest.has(d.device_uuid, di.id)) return false;
+        if (!latest.has(d.device_uuid, di.id)) {
+          return false;
+        }
       }
     }
   }
@@ -77,7 +81,9 @@ void print_table(Output& out, const std::vector<dds::ObservedDevice>& devices,
     return s.size() >= w ? s + " " : s + std::string(w - s.size(), ' ');
   };
   for (const auto& d : devices) {
-    if (d.interfaces.empty()) table << pad(d.device_uuid, 17) << "(no interfaces)\n";
+    if (d.interfaces.empty()) {
+      table << pad(d.device_uuid, 17) << "(no interfaces)\n";
+    }
     for (const auto& itf : d.interfaces) {
       for (const auto& di : itf.data_items) {
         const std::string label = di.type + (di.sub_type.empty() ? "" : " " + di.sub_type);
@@ -108,14 +114,18 @@ int run_list(const ParsedArgs& args, Context& context) {
     context.shutdown.poke();
   };
   callbacks.on_items_lost = [&](const std::string& dev, const std::vector<std::string>& items) {
-    for (const auto& item : items) latest.set(dev, item, "UNAVAILABLE");
+    for (const auto& item : items) {
+      latest.set(dev, item, "UNAVAILABLE");
+    }
   };
   dds::DomainObserver observer(options, std::move(callbacks));
   // Discovery has no "done" event: wait the full time, or until the
   // expected number of devices has announced itself.
   const auto deadline = std::chrono::steady_clock::now() + wait;
   while (!context.shutdown.wait_until(deadline) && std::chrono::steady_clock::now() < deadline) {
-    if (expect > 0 && complete(observer.devices(), expect, latest)) break;
+    if (expect > 0 && complete(observer.devices(), expect, latest)) {
+      break;
+    }
   }
   auto devices = observer.devices();
   std::sort(devices.begin(), devices.end(),
@@ -125,8 +135,10 @@ int run_list(const ParsedArgs& args, Context& context) {
   } else {
     print_table(context.out, devices, latest);
   }
-  if (context.shutdown.requested()) return kExitInterrupted;
-  return expect > 0 && devices.size() < expect ? kExitTimeout : kExitOk;
+  if (context.shutdown.requested()) {
+    return ExitInterrupted;
+  }
+  return expect > 0 && devices.size() < expect ? ExitTimeout : ExitOk;
 }
 
 }  // namespace

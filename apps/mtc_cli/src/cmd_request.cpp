@@ -10,9 +10,12 @@ namespace {
 RequestConfig parse_request(const ParsedArgs& args) {
   RequestConfig c;
   c.equipment = parse_equipment_options(args, false, true);
-  if (auto n = args.value("count"))
+  if (auto n = args.value("count")) {
     c.count = static_cast<std::uint64_t>(to_int("count", *n, 1, 100000000));
-  if (auto t = args.value("timeout")) c.timeout = to_duration("timeout", *t);
+  }
+  if (auto t = args.value("timeout")) {
+    c.timeout = to_duration("timeout", *t);
+  }
   c.keep_going = args.has("keep-going");
   c.fail_plan = parse_fail_options(args, false);
   return c;

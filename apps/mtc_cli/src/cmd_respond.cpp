@@ -10,9 +10,12 @@ namespace {
 RespondConfig parse_respond(const ParsedArgs& args) {
   RespondConfig c;
   c.equipment = parse_equipment_options(args, true, false);
-  if (auto n = args.value("count"))
+  if (auto n = args.value("count")) {
     c.count = static_cast<std::uint64_t>(to_int("count", *n, 1, 100000000));
-  if (auto a = args.value("action-ms")) c.action = parse_action_ms(*a);
+  }
+  if (auto a = args.value("action-ms")) {
+    c.action = parse_action_ms(*a);
+  }
   c.not_ready = args.has("not-ready");
   c.fail_plan = parse_fail_options(args, true);
   return c;
@@ -20,8 +23,9 @@ RespondConfig parse_respond(const ParsedArgs& args) {
 
 std::string service_list_json(const std::vector<core::Service>& services) {
   std::string out = "[";
-  for (std::size_t i = 0; i < services.size(); ++i)
+  for (std::size_t i = 0; i < services.size(); ++i) {
     out += (i ? "," : "") + json_quote(core::to_string(services[i]));
+  }
   return out + "]";
 }
 

@@ -44,7 +44,9 @@ class WatchPrinter {
       slot = v.value;
     }
     const bool repeat = previous == v.value && v.heartbeat_count > 0;
-    if (repeat && !heartbeats_) return;
+    if (repeat && !heartbeats_) {
+      return;
+    }
     const std::int64_t latency = v.reception_time_ns - v.source_time_ns;
     if (json_) {
       JsonLine line;
@@ -90,8 +92,10 @@ class WatchPrinter {
             .field("reception_time_ns", now);
         out_.line(line.str());
       } else {
-        out_.line(format_utc(now) + "  " + device + "  " + item + "  " + previous +
-                  " -> UNAVAILABLE  (writer lost: liveliness or disposal)");
+        std::string text = format_utc(now);
+        text += "  " + device + "  " + item + "  " + previous;
+        text += " -> UNAVAILABLE  (writer lost: liveliness or disposal)";
+        out_.line(text);
       }
     }
   }
@@ -120,7 +124,9 @@ class WatchPrinter {
 int run_watch(const ParsedArgs& args, Context& context) {
   const CommonOptions common = parse_common_options(args);
   std::optional<std::chrono::milliseconds> duration;
-  if (auto d = args.value("duration")) duration = to_duration("duration", *d);
+  if (auto d = args.value("duration")) {
+    duration = to_duration("duration", *d);
+  }
   WatchPrinter printer(context.out, common.json, args.has("heartbeats"));
 
   const dds::DomainObserverOptions options = observer_options(common, args);
@@ -144,7 +150,7 @@ int run_watch(const ParsedArgs& args, Context& context) {
     while (!context.shutdown.wait_for(std::chrono::hours(24))) {
     }
   }
-  return kExitOk;
+  return ExitOk;
 }
 
 }  // namespace

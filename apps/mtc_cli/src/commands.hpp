@@ -31,7 +31,7 @@ CommonOptions parse_common_options(const ParsedArgs& args);
 
 struct Command {
   CommandSpec spec;
-  int (*run)(const ParsedArgs& args, Context& context);
+  int (*run)(const ParsedArgs& args, Context& context) = nullptr;
 };
 
 Command watch_command();

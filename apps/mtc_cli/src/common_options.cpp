@@ -15,7 +15,9 @@ void add_common_options(CommandSpec& spec) {
 
 CommonOptions parse_common_options(const ParsedArgs& args) {
   CommonOptions common;
-  if (auto d = args.value("domain")) common.domain = static_cast<int>(to_int("domain", *d, 0, 232));
+  if (auto d = args.value("domain")) {
+    common.domain = static_cast<int>(to_int("domain", *d, 0, 232));
+  }
   if (auto p = args.value("qos-profile")) {
     if (!is_known_profile(*p)) {
       throw UsageError("unknown QoS profile '" + *p + "' (known: " + known_profiles_text() + ")");

@@ -13,7 +13,9 @@ namespace mtc::cli {
 namespace {
 
 qos::Transport to_transport(const EquipmentConfig& c) {
-  if (c.drop_percent > 0) return qos::Transport::LoopbackTest;
+  if (c.drop_percent > 0) {
+    return qos::Transport::LoopbackTest;
+  }
   switch (c.transport) {
     case TransportChoice::Loopback:
       return qos::Transport::Loopback;
@@ -43,7 +45,9 @@ Result to_result(const dds::RequestResult& r, core::InteractionState counterpart
 
 EquipmentLink::Refusal refusal(std::future<core::StepResult> f) {
   const core::StepResult r = f.get();
-  if (!r.rejected()) return std::nullopt;
+  if (!r.rejected()) {
+    return std::nullopt;
+  }
   return std::string(core::describe(r.reason));
 }
 
@@ -59,7 +63,9 @@ struct EquipmentLink::Impl {
     auto* h = role == core::Role::Requester
                   ? static_cast<dds::ServiceHandle*>(equipment->requester(config.interface_id, s))
                   : static_cast<dds::ServiceHandle*>(equipment->responder(config.interface_id, s));
-    if (h == nullptr) throw std::logic_error("service not configured on this interface");
+    if (h == nullptr) {
+      throw std::logic_error("service not configured on this interface");
+    }
     return *h;
   }
   dds::Responder& responder(core::Service s) const {
@@ -91,11 +97,14 @@ void EquipmentLink::Impl::on_transition(const dds::TransitionEvent& t) {
 }
 
 void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
-  if (v.kind != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service))
+  if (v.kind != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service)) {
     return;
+  }
   const auto wanted =
       role == core::Role::Requester ? core::SubType::Response : core::SubType::Request;
-  if (*v.sub_type != wanted) return;
+  if (*v.sub_type != wanted) {
+    return;
+  }
   LinkEvent e;
   e.kind = LinkEvent::Kind::CounterpartState;
   e.service = *v.service;

@@ -8,36 +8,52 @@ namespace {
 
 std::string all_service_names() {
   std::string text;
-  for (auto s : core::kAllServices)
+  for (auto s : core::kAllServices) {
     text += (text.empty() ? "" : ", ") + std::string(core::to_string(s));
+  }
   return text;
 }
 
 std::string required(const ParsedArgs& args, const std::string& name) {
   auto v = args.value(name);
-  if (!v || v->empty()) throw UsageError("--" + name + " is required");
+  if (!v || v->empty()) {
+    throw UsageError("--" + name + " is required");
+  }
   return *v;
 }
 
 TransportChoice parse_transport(const std::string& text) {
-  if (text == "loopback") return TransportChoice::Loopback;
-  if (text == "loopback-udp") return TransportChoice::LoopbackUdp;
-  if (text == "builtin") return TransportChoice::Builtin;
+  if (text == "loopback") {
+    return TransportChoice::Loopback;
+  }
+  if (text == "loopback-udp") {
+    return TransportChoice::LoopbackUdp;
+  }
+  if (text == "builtin") {
+    return TransportChoice::Builtin;
+  }
   throw UsageError("--transport expects loopback, loopback-udp or builtin, got '" + text + "'");
 }
 
 }  // namespace
 
 std::vector<core::Service> parse_services(const std::string& text, bool many) {
-  if (many && text == "all") return {core::kAllServices.begin(), core::kAllServices.end()};
+  if (many && text == "all") {
+    return {core::kAllServices.begin(), core::kAllServices.end()};
+  }
   const auto names = split_list(text);
-  if (names.empty())
+  if (names.empty()) {
     throw UsageError("--service needs a service name (" + all_service_names() + ")");
-  if (!many && names.size() > 1) throw UsageError("--service takes exactly one service here");
+  }
+  if (!many && names.size() > 1) {
+    throw UsageError("--service takes exactly one service here");
+  }
   std::vector<core::Service> services;
   for (const auto& n : names) {
     auto s = core::parse_service(n);
-    if (!s) throw UsageError("unknown service '" + n + "' (known: " + all_service_names() + ")");
+    if (!s) {
+      throw UsageError("unknown service '" + n + "' (known: " + all_service_names() + ")");
+    }
     services.push_back(*s);
   }
   return services;
@@ -63,9 +79,11 @@ core::InterfaceType default_interface_type(core::Service service) {
 std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text) {
   std::vector<std::chrono::milliseconds> out;
   for (const auto& item : split_list(text)) {
-    out.emplace_back(to_int("action-ms", item, 0, 24 * 3600 * 1000));
+    out.emplace_back(to_int("action-ms", item, 0, std::int64_t{24} * 3600 * 1000));
   }
-  if (out.empty()) throw UsageError("--action-ms expects milliseconds, e.g. 500 or 60000,10");
+  if (out.empty()) {
+    throw UsageError("--action-ms expects milliseconds, e.g. 500 or 60000,10");
+  }
   return out;
 }
 
@@ -79,11 +97,15 @@ void add_observer_options(CommandSpec& spec) {
 
 ObserverSettings parse_observer_options(const ParsedArgs& args) {
   ObserverSettings s;
-  if (auto t = args.value("transport")) s.transport = parse_transport(*t);
-  if (auto h = args.value("heartbeat-ms"))
+  if (auto t = args.value("transport")) {
+    s.transport = parse_transport(*t);
+  }
+  if (auto h = args.value("heartbeat-ms")) {
     s.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  if (auto m = args.value("missed-heartbeats"))
+  }
+  if (auto m = args.value("missed-heartbeats")) {
     s.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
+  }
   return s;
 }
 
@@ -131,20 +153,27 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
   c.interface_type = default_interface_type(c.services.front());
   if (auto t = args.value("interface-type")) {
     auto parsed = core::parse_interface_type(*t);
-    if (!parsed)
+    if (!parsed) {
       throw UsageError("unknown interface type '" + *t +
                        "' (BAR_FEEDER, MATERIAL_HANDLER, DOOR, CHUCK)");
+    }
     c.interface_type = *parsed;
   }
-  if (auto t = args.value("transport")) c.transport = parse_transport(*t);
-  if (auto h = args.value("heartbeat-ms"))
+  if (auto t = args.value("transport")) {
+    c.transport = parse_transport(*t);
+  }
+  if (auto h = args.value("heartbeat-ms")) {
     c.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  if (auto m = args.value("missed-heartbeats"))
+  }
+  if (auto m = args.value("missed-heartbeats")) {
     c.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
-  if (auto f = args.value("fail-ack-timeout"))
+  }
+  if (auto f = args.value("fail-ack-timeout")) {
     c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);
-  if (auto d = args.value("drop-percent"))
+  }
+  if (auto d = args.value("drop-percent")) {
     c.drop_percent = static_cast<int>(to_int("drop-percent", *d, 0, 100));
+  }
   return c;
 }
 
@@ -178,14 +207,18 @@ FailPlan parse_fail_options(const ParsedArgs& args, bool responder) {
   }
   std::vector<std::uint64_t> only_on;
   if (auto on = args.value("fail-on")) {
-    for (const auto& n : split_list(*on))
+    for (const auto& n : split_list(*on)) {
       only_on.push_back(static_cast<std::uint64_t>(to_int("fail-on", n, 1, INT64_MAX)));
+    }
   }
   double rate = 0;
   std::uint64_t seed = 1;
-  if (auto r = args.value("fail-rate")) rate = to_double("fail-rate", *r, 0.0, 1.0);
-  if (auto s = args.value("seed"))
+  if (auto r = args.value("fail-rate")) {
+    rate = to_double("fail-rate", *r, 0.0, 1.0);
+  }
+  if (auto s = args.value("seed")) {
     seed = static_cast<std::uint64_t>(to_int("seed", *s, 0, INT64_MAX));
+  }
   return FailPlan(step, std::move(only_on), rate, seed);
 }
 

@@ -5,14 +5,14 @@
 namespace mtc::cli {
 
 enum ExitCode : int {
-  kExitOk = 0,            // every handshake COMPLETE / command succeeded
-  kExitError = 1,         // runtime error (DDS entity creation, I/O)
-  kExitUsage = 2,         // bad flags, unknown service or profile name
-  kExitFail = 3,          // a handshake ended in FAIL
-  kExitTimeout = 4,       // no outcome (or no counterpart) within --timeout
-  kExitCommsLost = 5,     // counterpart lost (liveliness/heartbeat) during a handshake
-  kExitNotReady = 6,      // counterpart NOT_READY, request refused
-  kExitInterrupted = 130  // stopped by SIGINT/SIGTERM before finishing
+  ExitOk = 0,            // every handshake COMPLETE / command succeeded
+  ExitError = 1,         // runtime error (DDS entity creation, I/O)
+  ExitUsage = 2,         // bad flags, unknown service or profile name
+  ExitFail = 3,          // a handshake ended in FAIL
+  ExitTimeout = 4,       // no outcome (or no counterpart) within --timeout
+  ExitCommsLost = 5,     // counterpart lost (liveliness/heartbeat) during a handshake
+  ExitNotReady = 6,      // counterpart NOT_READY, request refused
+  ExitInterrupted = 130  // stopped by SIGINT/SIGTERM before finishing
 };
 
 }  // namespace mtc::cli

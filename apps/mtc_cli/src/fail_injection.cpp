@@ -5,10 +5,18 @@
 namespace mtc::cli {
 
 std::optional<FailStep> parse_fail_step(std::string_view text) {
-  if (text == "none") return FailStep::None;
-  if (text == "accept") return FailStep::Accept;
-  if (text == "active") return FailStep::Active;
-  if (text == "complete") return FailStep::Complete;
+  if (text == "none") {
+    return FailStep::None;
+  }
+  if (text == "accept") {
+    return FailStep::Accept;
+  }
+  if (text == "active") {
+    return FailStep::Active;
+  }
+  if (text == "complete") {
+    return FailStep::Complete;
+  }
   return std::nullopt;
 }
 
@@ -37,10 +45,14 @@ FailDecision FailPlan::decide(std::uint64_t n) {
     std::uniform_int_distribution<int> pick(1, 3);
     const bool hit = coin(rng_) < rate_;
     const auto random_step = static_cast<FailStep>(pick(rng_));
-    if (!hit) return {};
+    if (!hit) {
+      return {};
+    }
     return {step_ == FailStep::None ? random_step : step_};
   }
-  if (step_ == FailStep::None) return {};
+  if (step_ == FailStep::None) {
+    return {};
+  }
   if (!only_on_.empty() && std::find(only_on_.begin(), only_on_.end(), n) == only_on_.end()) {
     return {};
   }

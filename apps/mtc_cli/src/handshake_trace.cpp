@@ -27,19 +27,19 @@ std::string_view to_string(Result r) {
 int exit_code(Result r) {
   switch (r) {
     case Result::Complete:
-      return kExitOk;
+      return ExitOk;
     case Result::Fail:
-      return kExitFail;
+      return ExitFail;
     case Result::Timeout:
-      return kExitTimeout;
+      return ExitTimeout;
     case Result::CommsLost:
-      return kExitCommsLost;
+      return ExitCommsLost;
     case Result::NotReady:
-      return kExitNotReady;
+      return ExitNotReady;
     case Result::Interrupted:
-      return kExitInterrupted;
+      return ExitInterrupted;
   }
-  return kExitError;
+  return ExitError;
 }
 
 void HandshakeTrace::begin(std::uint64_t n, core::Service service) {
@@ -61,7 +61,9 @@ std::string HandshakeTrace::side(bool own) const {
 
 void HandshakeTrace::transition(bool own, const LinkEvent& e) {
   const double t = active() ? elapsed_ms() : 0.0;
-  if (active()) steps_.push_back({own, e.state, t});
+  if (active()) {
+    steps_.push_back({own, e.state, t});
+  }
   const std::int64_t latency = own ? 0 : e.reception_time_ns - e.source_time_ns;
   const std::string state(core::to_string(e.state));
   if (json_) {
@@ -72,9 +74,10 @@ void HandshakeTrace::transition(bool own, const LinkEvent& e) {
         .field("side", side(own))
         .field("state", state)
         .field("t_ms", t);
-    if (!own)
+    if (!own) {
       line.field("latency_ms", static_cast<double>(latency) / 1e6)
           .field("source_time_ns", e.source_time_ns);
+    }
     out_.line(line.field("time_ns", e.reception_time_ns).str());
     return;
   }
@@ -91,13 +94,17 @@ void HandshakeTrace::transition(bool own, const LinkEvent& e) {
   }
   std::string text = buf;
   text += "  " + std::string(core::to_string(e.service));
-  if (!own) text += "  (latency " + format_ms(latency) + ")";
+  if (!own) {
+    text += "  (latency " + format_ms(latency) + ")";
+  }
   out_.line(text);
 }
 
 std::optional<double> HandshakeTrace::first_ms(bool own, core::InteractionState s) const {
   for (const auto& step : steps_) {
-    if (step.own == own && step.state == s) return step.t_ms;
+    if (step.own == own && step.state == s) {
+      return step.t_ms;
+    }
   }
   return std::nullopt;
 }
@@ -114,8 +121,12 @@ void HandshakeTrace::outcome(Result result, const std::string& reason) {
         .field("result", to_string(result))
         .field("reason", reason)
         .field("total_ms", total);
-    if (accepted) line.field("response_active_ms", *accepted);
-    if (completed) line.field("response_complete_ms", *completed);
+    if (accepted) {
+      line.field("response_active_ms", *accepted);
+    }
+    if (completed) {
+      line.field("response_complete_ms", *completed);
+    }
     out_.line(line.str());
     return;
   }
@@ -124,10 +135,15 @@ void HandshakeTrace::outcome(Result result, const std::string& reason) {
                 static_cast<unsigned long long>(n_), std::string(core::to_string(service_)).c_str(),
                 std::string(to_string(result)).c_str(), total);
   std::string text = buf;
-  if (accepted)
+  if (accepted) {
     text += ", response ACTIVE at +" + format_ms(static_cast<std::int64_t>(*accepted * 1e6));
-  if (completed) text += ", COMPLETE at +" + format_ms(static_cast<std::int64_t>(*completed * 1e6));
-  if (!reason.empty()) text += " (" + reason + ")";
+  }
+  if (completed) {
+    text += ", COMPLETE at +" + format_ms(static_cast<std::int64_t>(*completed * 1e6));
+  }
+  if (!reason.empty()) {
+    text += " (" + reason + ")";
+  }
   out_.line(text);
 }
 

@@ -22,7 +22,9 @@ std::optional<LinkEvent> EventQueue::pop_until(std::chrono::steady_clock::time_p
   std::unique_lock<std::mutex> lock(mutex_);
   const std::uint64_t wakes = wakes_;
   cv_.wait_until(lock, deadline, [&] { return !events_.empty() || wakes_ != wakes; });
-  if (events_.empty()) return std::nullopt;
+  if (events_.empty()) {
+    return std::nullopt;
+  }
   LinkEvent e = std::move(events_.front());
   events_.pop_front();
   return e;

@@ -41,7 +41,7 @@ int run_command(const Command& command, const std::vector<std::string>& args) {
   for (const auto& a : args) {
     if (a == "--help" || a == "-h") {
       std::cout << mtc::cli::format_help(command.spec);
-      return mtc::cli::kExitOk;
+      return mtc::cli::ExitOk;
     }
   }
   mtc::cli::ParsedArgs parsed;
@@ -50,7 +50,7 @@ int run_command(const Command& command, const std::vector<std::string>& args) {
   } catch (const mtc::cli::UsageError& e) {
     std::cerr << "mtc " << command.spec.name << ": error: " << e.what() << "\n"
               << "Try 'mtc " << command.spec.name << " --help'.\n";
-    return mtc::cli::kExitUsage;
+    return mtc::cli::ExitUsage;
   }
   // Constructed before any DDS thread exists so that every thread inherits
   // the blocked SIGINT/SIGTERM mask.
@@ -63,14 +63,14 @@ int run_command(const Command& command, const std::vector<std::string>& args) {
   } catch (const mtc::cli::UsageError& e) {
     err.line("mtc " + command.spec.name + ": error: " + e.what() + "\nTry 'mtc " +
              command.spec.name + " --help'.");
-    return mtc::cli::kExitUsage;
+    return mtc::cli::ExitUsage;
   } catch (const mtc::dds::ConfigError& e) {
     // Bad device uuid / interface id and the like: the user's input.
     err.line("mtc " + command.spec.name + ": error: " + e.what());
-    return mtc::cli::kExitUsage;
+    return mtc::cli::ExitUsage;
   } catch (const std::exception& e) {
     err.line("mtc " + command.spec.name + ": " + e.what());
-    return mtc::cli::kExitError;
+    return mtc::cli::ExitError;
   }
 }
 
@@ -80,16 +80,18 @@ int main(int argc, char** argv) {
   const std::vector<Command> commands = all_commands();
   if (argc < 2) {
     print_overview(std::cerr, commands);
-    return mtc::cli::kExitUsage;
+    return mtc::cli::ExitUsage;
   }
   const std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {
     print_overview(std::cout, commands);
-    return mtc::cli::kExitOk;
+    return mtc::cli::ExitOk;
   }
   for (const auto& c : commands) {
-    if (c.spec.name == name) return run_command(c, std::vector<std::string>(argv + 2, argv + argc));
+    if (c.spec.name == name) {
+      return run_command(c, std::vector<std::string>(argv + 2, argv + argc));
+    }
   }
   std::cerr << "mtc: unknown command '" << name << "'\nTry 'mtc --help'.\n";
-  return mtc::cli::kExitUsage;
+  return mtc::cli::ExitUsage;
 }

@@ -42,7 +42,9 @@ std::string item_label(const dds::ObservedValue& v) {
   switch (v.kind) {
     case dds::ItemKind::Interaction: {
       std::string label = v.service ? std::string(core::to_string(*v.service)) : v.data_item_id;
-      if (v.sub_type) label += " " + std::string(core::to_string(*v.sub_type));
+      if (v.sub_type) {
+        label += " " + std::string(core::to_string(*v.sub_type));
+      }
       return label;
     }
     case dds::ItemKind::InterfaceState:

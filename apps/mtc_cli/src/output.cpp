@@ -40,7 +40,9 @@ std::string json_quote(std::string_view text) {
 }
 
 void JsonLine::key(std::string_view k) {
-  if (!body_.empty()) body_ += ",";
+  if (!body_.empty()) {
+    body_ += ",";
+  }
   body_ += json_quote(k);
   body_ += ":";
 }
@@ -107,7 +109,9 @@ std::int64_t now_ns() noexcept {
 }
 
 std::string format_utc(std::int64_t ns) {
-  if (ns <= 0) return "-";
+  if (ns <= 0) {
+    return "-";
+  }
   const std::time_t secs = static_cast<std::time_t>(ns / 1000000000);
   std::tm tm{};
   gmtime_r(&secs, &tm);

@@ -13,7 +13,9 @@ bool is_known_profile(const std::string& name) {
 
 std::string known_profiles_text() {
   std::string text;
-  for (const auto& n : qos::preset_names()) text += (text.empty() ? "" : ", ") + n;
+  for (const auto& n : qos::preset_names()) {
+    text += (text.empty() ? "" : ", ") + n;
+  }
   return text;
 }
 

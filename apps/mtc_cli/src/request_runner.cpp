@@ -1,6 +1,7 @@
 #include "request_runner.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace mtc::cli {
 
@@ -23,9 +24,13 @@ RequestRunner::RequestRunner(RequestConfig config, Context& context, EquipmentLi
       trace_(context.out, config_.equipment.common.json, core::Role::Requester) {}
 
 bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
-  if (context_.shutdown.requested()) return false;
+  if (context_.shutdown.requested()) {
+    return false;
+  }
   auto e = events_.pop_until(deadline);
-  if (!e) return false;
+  if (!e) {
+    return false;
+  }
   event = *e;
   if (event.service != service_ && event.kind != LinkEvent::Kind::CounterpartLost &&
       event.kind != LinkEvent::Kind::CounterpartRestored) {
@@ -33,13 +38,19 @@ bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
   }
   switch (event.kind) {
     case LinkEvent::Kind::OwnState:
-      if (event.state == own_) break;
+      if (event.state == own_) {
+        break;
+      }
       own_ = event.state;
-      if (own_ == InteractionState::Fail) failed_at_ = Clock::now();
+      if (own_ == InteractionState::Fail) {
+        failed_at_ = Clock::now();
+      }
       trace_.transition(true, event);
       break;
     case LinkEvent::Kind::CounterpartState:
-      if (event.state == peer_) break;
+      if (event.state == peer_) {
+        break;
+      }
       peer_ = event.state;
       trace_.transition(false, event);
       break;
@@ -56,23 +67,30 @@ bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
       done_ = event.result;
       break;
     case LinkEvent::Kind::Notice:
-      if (!event.detail.empty()) context_.err.line("mtc request: " + event.detail);
+      if (!event.detail.empty()) {
+        context_.err.line("mtc request: " + event.detail);
+      }
       break;
     case LinkEvent::Kind::RequestObserved:
     case LinkEvent::Kind::Aborted:
       break;
   }
-  if (event.reason != core::Reason::None && event.notice != core::Notice::Rejected)
+  if (event.reason != core::Reason::None && event.notice != core::Notice::Rejected) {
     last_reason_ = event.reason;
+  }
   return true;
 }
 
 Result RequestRunner::wait_until_ready(TimePoint deadline) {
   LinkEvent e;
   while (!(own_ == InteractionState::Ready && peer_ == InteractionState::Ready)) {
-    if (own_ == InteractionState::Fail) try_recover();
+    if (own_ == InteractionState::Fail) {
+      try_recover();
+    }
     if (!next_event(deadline, e)) {
-      if (context_.shutdown.requested()) return Result::Interrupted;
+      if (context_.shutdown.requested()) {
+        return Result::Interrupted;
+      }
       if (Clock::now() >= deadline) {
         return peer_ == InteractionState::NotReady ? Result::NotReady : Result::Timeout;
       }
@@ -96,14 +114,18 @@ Result RequestRunner::handshake(TimePoint deadline) {
   bool injected = false;
   LinkEvent e;
   while (true) {
-    if (done_) return *done_;
+    if (done_) {
+      return *done_;
+    }
     if (decision.fails() && !injected && peer_ == InteractionState::Active) {
       inject(decision);
       injected = true;
       continue;
     }
     if (!next_event(deadline, e)) {
-      if (context_.shutdown.requested()) return Result::Interrupted;
+      if (context_.shutdown.requested()) {
+        return Result::Interrupted;
+      }
       if (Clock::now() >= deadline) {
         link_.fail(service_);  // giving up is a requester failure (Table 5, FAIL condition 1)
         return Result::Timeout;
@@ -115,20 +137,28 @@ Result RequestRunner::handshake(TimePoint deadline) {
 void RequestRunner::try_recover() {
   // recover() is refused until the responder acknowledged our FAIL or the
   // fail-ack time limit passed; retried on every event and at that limit.
-  if (own_ != InteractionState::Fail) return;
+  if (own_ != InteractionState::Fail) {
+    return;
+  }
   link_.recover(service_);
 }
 
 bool RequestRunner::close_cycle(TimePoint deadline) {
   LinkEvent e;
   while (!(idle(own_) && idle(peer_) && !peer_lost_)) {
-    if (own_ == InteractionState::Fail) try_recover();
+    if (own_ == InteractionState::Fail) {
+      try_recover();
+    }
     auto wake = deadline;
     const auto retry =
         failed_at_ + config_.equipment.fail_ack_timeout + std::chrono::milliseconds(50);
-    if (own_ == InteractionState::Fail && retry > Clock::now()) wake = std::min(deadline, retry);
+    if (own_ == InteractionState::Fail && retry > Clock::now()) {
+      wake = std::min(deadline, retry);
+    }
     if (!next_event(wake, e)) {
-      if (context_.shutdown.requested() || Clock::now() >= deadline) return false;
+      if (context_.shutdown.requested() || Clock::now() >= deadline) {
+        return false;
+      }
     }
   }
   trace_.note("closed", "request " + std::string(core::to_string(own_)) + ", response " +
@@ -139,16 +169,21 @@ bool RequestRunner::close_cycle(TimePoint deadline) {
 namespace {
 // Nearest-rank percentile of an unsorted sample (0 when empty).
 double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
+  if (v.empty()) {
+    return 0;
+  }
   std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(p / 100.0 * static_cast<double>(v.size() - 1) + 0.5);
+  const auto rank =
+      static_cast<std::size_t>(std::lround(p / 100.0 * static_cast<double>(v.size() - 1)));
   return v[std::min(rank, v.size() - 1)];
 }
 }  // namespace
 
 void RequestRunner::print_summary() {
   std::uint64_t counts[6] = {0, 0, 0, 0, 0, 0};
-  for (auto r : results_) ++counts[static_cast<int>(r)];
+  for (auto r : results_) {
+    ++counts[static_cast<int>(r)];
+  }
   const double p50 = percentile(complete_ms_, 50);
   const double p99 = percentile(complete_ms_, 99);
   const double max = percentile(complete_ms_, 100);
@@ -204,20 +239,30 @@ int RequestRunner::run() {
                    ? std::string(core::describe(last_reason_))
                    : (peer_ == InteractionState::Fail ? "responder FAIL" : "request FAIL");
     }
-    if (result == Result::CommsLost) reason = "counterpart lost (no heartbeat within the lease)";
+    if (result == Result::CommsLost) {
+      reason = "counterpart lost (no heartbeat within the lease)";
+    }
     trace_.outcome(result, reason);
     results_.push_back(result);
     if (result == Result::Complete) {
       complete_ms_.push_back(trace_.elapsed_ms());
-      if (auto a = trace_.first_ms(false, InteractionState::Active)) accept_ms_.push_back(*a);
+      if (auto a = trace_.first_ms(false, InteractionState::Active)) {
+        accept_ms_.push_back(*a);
+      }
     }
-    if (code == 0) code = exit_code(result);
+    if (code == 0) {
+      code = exit_code(result);
+    }
     const bool more = n < config_.count && (config_.keep_going || result == Result::Complete);
-    if (result == Result::Interrupted) break;
+    if (result == Result::Interrupted) {
+      break;
+    }
     if (result != Result::CommsLost || more) {
       close_cycle(Clock::now() + config_.timeout);
     }
-    if (!more) break;
+    if (!more) {
+      break;
+    }
   }
   print_summary();
   return context_.shutdown.requested() ? exit_code(Result::Interrupted) : code;

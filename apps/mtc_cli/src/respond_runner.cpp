@@ -19,19 +19,24 @@ RespondRunner::RespondRunner(RespondConfig config, Context& context, EquipmentLi
                              EventQueue& events)
     : config_(std::move(config)), context_(context), link_(link), events_(events) {
   slots_.reserve(config_.equipment.services.size());
-  for (auto s : config_.equipment.services)
+  for (auto s : config_.equipment.services) {
     slots_.emplace_back(s, context.out, config_.equipment.common.json);
+  }
 }
 
 RespondRunner::Slot* RespondRunner::slot_for(core::Service s) {
   for (auto& slot : slots_) {
-    if (slot.service == s) return &slot;
+    if (slot.service == s) {
+      return &slot;
+    }
   }
   return nullptr;
 }
 
 void RespondRunner::report(Slot& slot, Result result, const std::string& reason) {
-  if (slot.reported || !slot.busy) return;
+  if (slot.reported || !slot.busy) {
+    return;
+  }
   slot.reported = true;
   slot.action_end.reset();
   slot.fail_at.reset();
@@ -58,7 +63,9 @@ void RespondRunner::on_request(Slot& slot) {
   const auto index = std::min<std::size_t>(slot.trace.number() - 1, actions.size() - 1);
   const auto now = Clock::now();
   slot.action_end = now + actions[index];
-  if (slot.decision.step == FailStep::Active) slot.fail_at = now + actions[index] / 2;
+  if (slot.decision.step == FailStep::Active) {
+    slot.fail_at = now + actions[index] / 2;
+  }
 }
 
 void RespondRunner::inject(Slot& slot) {
@@ -89,11 +96,15 @@ void RespondRunner::on_event(const LinkEvent& e) {
       e.kind == LinkEvent::Kind::CounterpartRestored) {
     const bool lost = e.kind == LinkEvent::Kind::CounterpartLost;
     for (auto& slot : slots_) {
-      if (lost) slot.peer = InteractionState::Unavailable;
+      if (lost) {
+        slot.peer = InteractionState::Unavailable;
+      }
       if (&slot == &slots_.front() || slot.busy) {
         slot.trace.note(lost ? "peer_lost" : "peer_restored", e.detail);
       }
-      if (lost) report(slot, Result::Fail, "requester lost (no heartbeat within the lease)");
+      if (lost) {
+        report(slot, Result::Fail, "requester lost (no heartbeat within the lease)");
+      }
     }
     return;
   }
@@ -102,25 +113,36 @@ void RespondRunner::on_event(const LinkEvent& e) {
     return;
   }
   Slot* slot = slot_for(e.service);
-  if (slot == nullptr) return;
+  if (slot == nullptr) {
+    return;
+  }
   if (e.kind == LinkEvent::Kind::RequestObserved) {
     // A new request while the last handshake still looks open means its
     // closing READY was overwritten by this ACTIVE (KEEP_LAST 1): close it.
-    if (slot->busy && slot->reported) close(*slot);
-    if (!slot->busy) on_request(*slot);
+    if (slot->busy && slot->reported) {
+      close(*slot);
+    }
+    if (!slot->busy) {
+      on_request(*slot);
+    }
     return;
   }
   if (e.kind == LinkEvent::Kind::Aborted) {
     report(*slot, Result::Fail, std::string(core::describe(e.reason)));
     return;
   }
-  if (e.reason != core::Reason::None && e.notice != core::Notice::Rejected)
+  if (e.reason != core::Reason::None && e.notice != core::Notice::Rejected) {
     slot->last_reason = e.reason;
+  }
   if (e.kind == LinkEvent::Kind::OwnState && e.state != slot->own) {
     slot->own = e.state;
-    if (e.state == InteractionState::Fail) slot->failed_at = Clock::now();
+    if (e.state == InteractionState::Fail) {
+      slot->failed_at = Clock::now();
+    }
     slot->trace.transition(true, e);
-    if (e.state == InteractionState::Complete) report(*slot, Result::Complete, "");
+    if (e.state == InteractionState::Complete) {
+      report(*slot, Result::Complete, "");
+    }
     if (e.state == InteractionState::Fail) {
       report(*slot, Result::Fail,
              slot->last_reason != core::Reason::None
@@ -135,7 +157,9 @@ void RespondRunner::on_event(const LinkEvent& e) {
 
 // Recovery and cycle closing, re-checked after every event and timer.
 void RespondRunner::maintain(Slot& slot) {
-  if (slot.own == InteractionState::Fail) link_.recover(slot.service);
+  if (slot.own == InteractionState::Fail) {
+    link_.recover(slot.service);
+  }
   if (slot.busy && slot.reported && idle(slot.own) && idle(slot.peer)) {
     close(slot);
   }
@@ -151,22 +175,32 @@ void RespondRunner::close(Slot& slot) {
 RespondRunner::TimePoint RespondRunner::next_wake() const {
   auto wake = Clock::now() + std::chrono::hours(1);
   for (const auto& slot : slots_) {
-    if (slot.action_end) wake = std::min(wake, *slot.action_end);
-    if (slot.fail_at) wake = std::min(wake, *slot.fail_at);
+    if (slot.action_end) {
+      wake = std::min(wake, *slot.action_end);
+    }
+    if (slot.fail_at) {
+      wake = std::min(wake, *slot.fail_at);
+    }
     const auto retry =
         slot.failed_at + config_.equipment.fail_ack_timeout + std::chrono::milliseconds(50);
-    if (slot.own == InteractionState::Fail && retry > Clock::now()) wake = std::min(wake, retry);
+    if (slot.own == InteractionState::Fail && retry > Clock::now()) {
+      wake = std::min(wake, retry);
+    }
   }
   return wake;
 }
 
 int RespondRunner::run() {
   for (auto& slot : slots_) {
-    if (config_.not_ready) link_.set_ready(slot.service, false);
+    if (config_.not_ready) {
+      link_.set_ready(slot.service, false);
+    }
     slot.own = link_.state(slot.service);
   }
   while (!context_.shutdown.requested() && (config_.count == 0 || closed_ < config_.count)) {
-    if (auto e = events_.pop_until(next_wake())) on_event(*e);
+    if (auto e = events_.pop_until(next_wake())) {
+      on_event(*e);
+    }
     const auto now = Clock::now();
     for (auto& slot : slots_) {
       on_timers(slot, now);
@@ -179,7 +213,7 @@ int RespondRunner::run() {
   } else {
     context_.out.line("stopped after " + std::to_string(closed_) + " handshake(s)");
   }
-  return kExitOk;
+  return ExitOk;
 }
 
 }  // namespace mtc::cli

@@ -9,11 +9,16 @@ namespace mtc::cli {
 
 namespace {
 
-sigset_t shutdown_signals() {
+// SIGUSR2 only wakes the sigwait() thread when the object is destroyed; it
+// is blocked in every thread, so no other thread can be hit by it.
+constexpr int kWakeSignal = SIGUSR2;
+
+sigset_t handled_signals() {
   sigset_t set;
   sigemptyset(&set);
   sigaddset(&set, SIGINT);
   sigaddset(&set, SIGTERM);
+  sigaddset(&set, kWakeSignal);
   return set;
 }
 
@@ -23,7 +28,7 @@ ShutdownSignal::ShutdownSignal() {
   // A closed stdout pipe (e.g. `mtc watch | head`) must not kill us silently
   // mid-write; the write fails and the command ends normally instead.
   ::signal(SIGPIPE, SIG_IGN);
-  sigset_t set = shutdown_signals();
+  sigset_t set = handled_signals();
   if (int rc = pthread_sigmask(SIG_BLOCK, &set, nullptr); rc != 0) {
     throw std::system_error(rc, std::generic_category(), "pthread_sigmask");
   }
@@ -33,17 +38,23 @@ ShutdownSignal::ShutdownSignal() {
 ShutdownSignal::~ShutdownSignal() {
   closing_ = true;
   // Wake the sigwait() thread with a signal aimed only at it.
-  pthread_kill(thread_.native_handle(), SIGTERM);
+  pthread_kill(thread_.native_handle(), kWakeSignal);
   thread_.join();
 }
 
 void ShutdownSignal::run() {
-  const sigset_t set = shutdown_signals();
+  const sigset_t set = handled_signals();
   while (true) {
     int sig = 0;
-    if (sigwait(&set, &sig) != 0) continue;
-    if (closing_) return;
-    request(sig);
+    if (sigwait(&set, &sig) != 0) {
+      continue;
+    }
+    if (closing_) {
+      return;
+    }
+    if (sig != kWakeSignal) {
+      request(sig);
+    }
   }
 }
 
@@ -51,12 +62,16 @@ void ShutdownSignal::request(int signal_number) {
   std::function<void()> listener;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!requested_) signal_number_ = signal_number;
+    if (!requested_) {
+      signal_number_ = signal_number;
+    }
     requested_ = true;
     listener = listener_;
   }
   cv_.notify_all();
-  if (listener) listener();
+  if (listener) {
+    listener();
+  }
 }
 
 void ShutdownSignal::set_listener(std::function<void()> listener) {
