@@ -305,6 +305,9 @@ class EquipmentLink : public Link {
     };
     cb.on_counterpart_value = [this](const dds::ObservedValue& v) { note_value(v); };
     cb.on_diagnostic = [this](const std::string& text) {
+      // "ignored ... after only N ms of silence": the runtime filtering a
+      // false loss alarm; the cell's log is about the cell, so leave it out.
+      if (text.rfind("ignored", 0) == 0) return;
       print_line(to_string(id_), "runtime: " + text);
     };
     return cb;

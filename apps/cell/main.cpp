@@ -22,6 +22,9 @@ void usage(std::ostream& out) {
          "  --seed N         seed of the failure schedule (default 1)\n"
          "  --fail-every K   one injected failure per K cycles, 0 = none (default 10)\n"
          "  --pace-ms MS     duration of one simulated motion (default 150)\n"
+         "  --comms-loss-every S\n"
+         "                   about every S seconds freeze the robot or the feeder (SIGSTOP)\n"
+         "                   for 2.5 leases: scenario 6 (default 0 = never; processes only)\n"
          "  --domain D       DDS domain id (default 110)\n"
          "  --heartbeat-ms MS, --missed-heartbeats N\n"
          "                   DDS heartbeat and loss detection (default 200 x 5 = 1 s)\n"
@@ -69,6 +72,9 @@ std::string parse(int argc, char** argv, Parsed& p) {
     } else if (a == "--duration" && parse_number(v, 0, 86400 * 365, n)) {
       p.options.duration_s = static_cast<int>(n);
       continue;  // the supervisor's business, not the stations'
+    } else if (a == "--comms-loss-every" && parse_number(v, 0, 86400, n)) {
+      p.options.freeze_every_s = static_cast<int>(n);
+      continue;  // staged by the supervisor
     } else if (a == "--seed" && parse_number(v, 0, 2147483647, n)) {
       p.options.seed = static_cast<std::uint64_t>(n);
     } else if (a == "--fail-every" && parse_number(v, 0, 1000000, n)) {

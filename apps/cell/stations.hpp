@@ -23,6 +23,7 @@ struct CellOptions {
   int domain_id = 110;
   int cycles = 0;             // machine stops after this many; 0 = until stopped
   int duration_s = 0;         // supervisor stops the cell after this; 0 = until stopped
+  int freeze_every_s = 0;     // supervisor freezes robot or feeder about this often; 0 = never
   std::uint64_t seed = 1;
   int fail_every = 10;        // one injected failure per this many cycles; 0 = none
   Millis pace{150};           // duration of one simulated motion

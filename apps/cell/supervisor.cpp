@@ -11,6 +11,7 @@
 #include <ctime>
 #include <exception>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "console.hpp"
@@ -76,10 +77,12 @@ class Supervisor {
 
   int run(const sigset_t& signals) {
     const auto started = Clock::now();
+    schedule_freeze(started);
     while (any_running()) {
       const auto now = Clock::now();
       Clock::duration wait = std::chrono::seconds(1);
       if (stopping_) wait = std::min<Clock::duration>(wait, kill_at_ - now);
+      if (!stopping_ && freeze_at_) wait = std::min<Clock::duration>(wait, *freeze_at_ - now);
       if (!stopping_ && options_.duration_s > 0) {
         wait = std::min<Clock::duration>(
             wait, started + std::chrono::seconds(options_.duration_s) - now);
@@ -95,6 +98,7 @@ class Supervisor {
         begin_stop("duration reached", 0);
       }
       if (stopping_ && Clock::now() >= kill_at_) kill_survivors();
+      if (!stopping_ && freeze_at_ && Clock::now() >= *freeze_at_) freeze_or_thaw();
     }
     return exit_code_;
   }
@@ -107,7 +111,47 @@ class Supervisor {
     return false;
   }
 
+  // Scenario 6 staged for real: a station process is frozen (SIGSTOP) long
+  // enough for its peers' liveliness lease to expire, then resumed.
+  void schedule_freeze(Clock::time_point from) {
+    if (options_.freeze_every_s <= 0) return;
+    // Seeded jitter: between 0.5 and 1.5 times the period.
+    rng_state_ = rng_state_ * 6364136223846793005ULL + 1442695040888963407ULL;
+    const auto period_ms = options_.freeze_every_s * 1000;
+    const auto jitter = static_cast<long>((rng_state_ >> 33) % static_cast<unsigned>(period_ms));
+    freeze_at_ = from + std::chrono::milliseconds(period_ms / 2 + jitter);
+  }
+
+  void freeze_or_thaw() {
+    if (frozen_) {
+      kill(frozen_->pid, SIGCONT);
+      print_line("cell", format("%s resumes after %.1f s frozen",
+                                std::string(to_string(frozen_->id)).c_str(),
+                                std::chrono::duration<double>(freeze_length()).count()));
+      frozen_ = nullptr;
+      schedule_freeze(Clock::now());
+      return;
+    }
+    // Robot and feeder take turns; the machine keeps the cycle's account.
+    Child& c = children_[(freezes_++ % 2 == 0) ? 1 : 0];
+    if (!c.running) return;
+    kill(c.pid, SIGSTOP);
+    frozen_ = &c;
+    print_line("cell", format("!! %s frozen (SIGSTOP) for %.1f s: loss of communication, "
+                              "scenario 6",
+                              std::string(to_string(c.id)).c_str(),
+                              std::chrono::duration<double>(freeze_length()).count()));
+    freeze_at_ = Clock::now() + freeze_length();
+  }
+
+  // Two leases and a half: long enough to be declared lost for certain.
+  Clock::duration freeze_length() const {
+    return options_.heartbeat * options_.missed_heartbeats * 5 / 2;
+  }
+
   void begin_stop(const char* why, int code) {
+    if (frozen_) kill(frozen_->pid, SIGCONT);  // a stopped process cannot act on SIGTERM
+    frozen_ = nullptr;
     stopping_ = true;
     exit_code_ = code;
     kill_at_ = Clock::now() + std::chrono::seconds(5);
@@ -148,7 +192,11 @@ class Supervisor {
   }
 
   const CellOptions& options_;
-  std::vector<Child> children_;
+  std::vector<Child> children_;  // feeder, robot, machine
+  std::optional<Clock::time_point> freeze_at_;
+  Child* frozen_ = nullptr;
+  unsigned freezes_ = 0;
+  std::uint64_t rng_state_ = options_.seed;
   bool stopping_ = false;
   int exit_code_ = 0;
   Clock::time_point kill_at_{};
