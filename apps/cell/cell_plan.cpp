@@ -16,9 +16,12 @@ std::uint64_t mix(std::uint64_t x) noexcept {
 
 std::string_view to_string(StationId id) noexcept {
   switch (id) {
-    case StationId::Machine: return "machine";
-    case StationId::Robot: return "robot";
-    case StationId::Feeder: return "feeder";
+    case StationId::Machine:
+      return "machine";
+    case StationId::Robot:
+      return "robot";
+    case StationId::Feeder:
+      return "feeder";
   }
   return "?";
 }
@@ -36,15 +39,22 @@ Fault describe(FaultPoint point, int cycle) noexcept {
     case FaultPoint::FeederRefusesFeed:
       return {cycle, point, StationId::Feeder, Service::MaterialFeed, 1, "no bar stock detected"};
     case FaultPoint::RobotDropsPartOnLoad:
-      return {cycle, point, StationId::Robot, Service::MaterialLoad, 2,
-              "gripper lost the part"};
+      return {cycle, point, StationId::Robot, Service::MaterialLoad, 2, "gripper lost the part"};
     case FaultPoint::MachineStopsDuringUnload:
-      return {cycle, point, StationId::Machine, Service::MaterialUnload, 3,
+      return {cycle,
+              point,
+              StationId::Machine,
+              Service::MaterialUnload,
+              3,
               "spindle alarm, machine stops the unload"};
     case FaultPoint::DoorJams:
       return {cycle, point, StationId::Machine, Service::OpenDoor, 2, "door jammed half open"};
     case FaultPoint::RobotCollisionAtChuck:
-      return {cycle, point, StationId::Robot, Service::OpenChuck, 3,
+      return {cycle,
+              point,
+              StationId::Robot,
+              Service::OpenChuck,
+              3,
               "collision sensor tripped at the chuck"};
   }
   return {};

@@ -32,10 +32,10 @@ inline constexpr int kFaultPointCount = 5;
 struct Fault {
   int cycle = 0;
   FaultPoint point = FaultPoint::FeederRefusesFeed;
-  StationId party = StationId::Feeder;  // who fails
+  StationId party = StationId::Feeder;                  // who fails
   core::Service service = core::Service::MaterialFeed;  // whose handshake fails
-  int scenario = 1;                     // Part 5 section 5.1 scenario number
-  std::string_view what;                // the simulated cause, for the log
+  int scenario = 1;                                     // Part 5 section 5.1 scenario number
+  std::string_view what;                                // the simulated cause, for the log
 };
 
 Fault describe(FaultPoint point, int cycle) noexcept;

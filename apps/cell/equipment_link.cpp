@@ -25,9 +25,12 @@ using core::Service;
 // "robot" and "feeder" (names) built from their DDS announcements.
 const char* uuid_of(StationId id) {
   switch (id) {
-    case StationId::Machine: return "cell-machine";
-    case StationId::Robot: return "cell-robot";
-    case StationId::Feeder: return "cell-feeder";
+    case StationId::Machine:
+      return "cell-machine";
+    case StationId::Robot:
+      return "cell-robot";
+    case StationId::Feeder:
+      return "cell-feeder";
   }
   return "";
 }
@@ -35,12 +38,16 @@ const char* uuid_of(StationId id) {
 // Which interface of the cell carries a service.
 const char* interface_of(Service s) {
   switch (s) {
-    case Service::MaterialFeed: return "bar_feeder";
+    case Service::MaterialFeed:
+      return "bar_feeder";
     case Service::OpenDoor:
-    case Service::CloseDoor: return "door";
+    case Service::CloseDoor:
+      return "door";
     case Service::OpenChuck:
-    case Service::CloseChuck: return "chuck";
-    default: return "material_handler";
+    case Service::CloseChuck:
+      return "chuck";
+    default:
+      return "material_handler";
   }
 }
 
@@ -54,7 +61,7 @@ struct Shared {
   std::condition_variable cv;
   std::set<Service> pending_jobs;
   std::set<Service> aborted;
-  std::optional<core::DoorState> door;    // as published by the machine
+  std::optional<core::DoorState> door;  // as published by the machine
   std::optional<core::ChuckState> chuck;
 
   void touch() {
@@ -127,9 +134,10 @@ class DdsRequestPort : public RequestPort {
     if (result_->outcome != dds::Outcome::Completed) return Outcome::Failed;
     // Steps 7-8: the responder returns to READY (NOT_READY when, say, the
     // door it just opened now forbids another OPEN_DOOR).
-    const auto left = std::chrono::duration_cast<Millis>(deadline - std::chrono::steady_clock::now());
-    const bool idle = shared_.wait(std::max(left, Millis(0)),
-                                   [&] { return is_idle(r_.counterpart_state()); });
+    const auto left =
+        std::chrono::duration_cast<Millis>(deadline - std::chrono::steady_clock::now());
+    const bool idle =
+        shared_.wait(std::max(left, Millis(0)), [&] { return is_idle(r_.counterpart_state()); });
     return idle ? Outcome::Completed : Outcome::TimedOut;
   }
 
@@ -188,8 +196,8 @@ Layout layout_of(StationId id) {
   Layout l;
   switch (id) {
     case StationId::Machine: {
-      l.interfaces.push_back(interface("material_handler", InterfaceType::MaterialHandler,
-                                       StationId::Robot));
+      l.interfaces.push_back(
+          interface("material_handler", InterfaceType::MaterialHandler, StationId::Robot));
       auto door = interface("door", InterfaceType::Door, StationId::Robot);
       door.publishes_door_state = true;
       door.initial_door_state = core::DoorState::Closed;
@@ -205,12 +213,11 @@ Layout layout_of(StationId id) {
       break;
     }
     case StationId::Robot:
-      l.interfaces.push_back(interface("material_handler", InterfaceType::MaterialHandler,
-                                       StationId::Machine));
+      l.interfaces.push_back(
+          interface("material_handler", InterfaceType::MaterialHandler, StationId::Machine));
       l.interfaces.push_back(interface("door", InterfaceType::Door, StationId::Machine));
       l.interfaces.push_back(interface("chuck", InterfaceType::Chuck, StationId::Machine));
-      l.requests = {Service::OpenDoor, Service::CloseDoor, Service::OpenChuck,
-                    Service::CloseChuck};
+      l.requests = {Service::OpenDoor, Service::CloseDoor, Service::OpenChuck, Service::CloseChuck};
       l.responses = {Service::MaterialLoad, Service::MaterialUnload};
       break;
     case StationId::Feeder:
@@ -279,9 +286,7 @@ class EquipmentLink : public Link {
     return job;
   }
 
-  void set_door(core::DoorState state) override {
-    equipment_->set_door_state("door", state).get();
-  }
+  void set_door(core::DoorState state) override { equipment_->set_door_state("door", state).get(); }
   void set_chuck(core::ChuckState state) override {
     equipment_->set_chuck_state("chuck", state).get();
   }
@@ -296,10 +301,10 @@ class EquipmentLink : public Link {
     cb.on_transition = [this](const dds::TransitionEvent&) { shared_.touch(); };
     cb.on_link = [this](const dds::LinkEvent& e) {
       if (e.current == dds::LinkState::Lost || e.previous == dds::LinkState::Lost) {
-        print_line(to_string(id_), format("link %s -> %s: %s (%s)", e.interface_id.c_str(),
-                                          e.counterpart_uuid.c_str(),
-                                          std::string(dds::to_string(e.current)).c_str(),
-                                          e.cause.c_str()));
+        print_line(
+            to_string(id_),
+            format("link %s -> %s: %s (%s)", e.interface_id.c_str(), e.counterpart_uuid.c_str(),
+                   std::string(dds::to_string(e.current)).c_str(), e.cause.c_str()));
       }
       shared_.touch();
     };

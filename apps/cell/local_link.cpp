@@ -17,7 +17,9 @@ namespace {
 
 constexpr Millis kTickSlice{20};  // how often waits fire the machines' time limits
 
-std::size_t index_of(Service s) { return static_cast<std::size_t>(s); }
+std::size_t index_of(Service s) {
+  return static_cast<std::size_t>(s);
+}
 
 }  // namespace
 
@@ -164,9 +166,8 @@ class LocalRequestPort : public RequestPort {
     bus_.wait(timeout, [&] {
       return w_.req.state() != InteractionState::Fail || w_.req.fail_acknowledged();
     });
-    bus_.command(w_, [&](core::TimePoint now) {
-      return w_.req.recover(InteractionState::Ready, now);
-    });
+    bus_.command(w_,
+                 [&](core::TimePoint now) { return w_.req.recover(InteractionState::Ready, now); });
     return bus_.wait(Millis(0), [&] { return w_.req.state() == InteractionState::Ready; });
   }
 
@@ -183,8 +184,7 @@ class LocalResponsePort : public ResponsePort {
     return !bus_.command(w_, [&](core::TimePoint now) { return w_.resp.accept(now); }).rejected();
   }
   bool complete() override {
-    return !bus_.command(w_, [&](core::TimePoint now) { return w_.resp.complete(now); })
-                .rejected();
+    return !bus_.command(w_, [&](core::TimePoint now) { return w_.resp.complete(now); }).rejected();
   }
   void fail() override {
     bus_.command(w_, [&](core::TimePoint now) { return w_.resp.fail(now); });
@@ -196,9 +196,8 @@ class LocalResponsePort : public ResponsePort {
     bus_.wait(timeout, [&] {
       return w_.resp.state() != InteractionState::Fail || w_.resp.fail_acknowledged();
     });
-    bus_.command(w_, [&](core::TimePoint now) {
-      return w_.resp.recover(InteractionState::Ready, now);
-    });
+    bus_.command(
+        w_, [&](core::TimePoint now) { return w_.resp.recover(InteractionState::Ready, now); });
     return bus_.wait(timeout, [&] { return w_.resp.state() == InteractionState::Ready; });
   }
 
@@ -221,11 +220,14 @@ LocalBus::LocalBus(const core::MachineOptions& options) : impl_(std::make_unique
 
 LocalBus::~LocalBus() = default;
 
-RequestPort& LocalBus::requester(Service s) { return *impl_->request_ports.at(index_of(s)); }
-ResponsePort& LocalBus::responder(Service s) { return *impl_->response_ports.at(index_of(s)); }
+RequestPort& LocalBus::requester(Service s) {
+  return *impl_->request_ports.at(index_of(s));
+}
+ResponsePort& LocalBus::responder(Service s) {
+  return *impl_->response_ports.at(index_of(s));
+}
 
-std::optional<Service> LocalBus::wait_job(std::initializer_list<Service> services,
-                                          Millis timeout) {
+std::optional<Service> LocalBus::wait_job(std::initializer_list<Service> services, Millis timeout) {
   std::optional<Service> job;
   impl_->wait(timeout, [&] {
     for (Service s : services) {

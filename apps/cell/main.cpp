@@ -55,8 +55,14 @@ struct Parsed {
 std::string parse(int argc, char** argv, Parsed& p) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--threads") { p.mode = Mode::Threads; continue; }
-    if (a == "--local") { p.mode = Mode::Local; continue; }
+    if (a == "--threads") {
+      p.mode = Mode::Threads;
+      continue;
+    }
+    if (a == "--local") {
+      p.mode = Mode::Local;
+      continue;
+    }
     if (i + 1 >= argc) return "unknown option or missing value: " + a;
     const std::string v = argv[++i];
     long n = 0;
@@ -119,10 +125,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   switch (p.mode) {
-    case Mode::Station: return mtc::cell::run_station_process(p.station, p.options);
-    case Mode::Threads: return mtc::cell::run_all_in_process(p.options, false);
-    case Mode::Local: return mtc::cell::run_all_in_process(p.options, true);
-    case Mode::Supervise: break;
+    case Mode::Station:
+      return mtc::cell::run_station_process(p.station, p.options);
+    case Mode::Threads:
+      return mtc::cell::run_all_in_process(p.options, false);
+    case Mode::Local:
+      return mtc::cell::run_all_in_process(p.options, true);
+    case Mode::Supervise:
+      break;
   }
   return mtc::cell::supervise(p.options, p.station_args);
 }

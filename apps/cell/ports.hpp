@@ -80,11 +80,16 @@ class Link {
 inline bool door_chuck_holds(core::Service s, std::optional<core::DoorState> door,
                              std::optional<core::ChuckState> chuck) {
   switch (s) {
-    case core::Service::OpenDoor: return door == core::DoorState::Open;
-    case core::Service::CloseDoor: return door == core::DoorState::Closed;
-    case core::Service::OpenChuck: return chuck == core::ChuckState::Open;
-    case core::Service::CloseChuck: return chuck == core::ChuckState::Closed;
-    default: return false;
+    case core::Service::OpenDoor:
+      return door == core::DoorState::Open;
+    case core::Service::CloseDoor:
+      return door == core::DoorState::Closed;
+    case core::Service::OpenChuck:
+      return chuck == core::ChuckState::Open;
+    case core::Service::CloseChuck:
+      return chuck == core::ChuckState::Closed;
+    default:
+      return false;
   }
 }
 

@@ -44,7 +44,9 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-std::string name(Service s) { return std::string(core::to_string(s)); }
+std::string name(Service s) {
+  return std::string(core::to_string(s));
+}
 
 struct Ctx {
   StationId id;
@@ -90,8 +92,8 @@ Outcome request_service(Ctx& c, Service s, const char* responder, const std::str
                         const std::optional<Fault>& fault, const Abandon& abandon = {}) {
   RequestPort& port = c.link.requester(s);
   const auto t0 = Clock::now();
-  if (!in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); },
-                 abandon)) {
+  if (!in_slices(
+          c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); }, abandon)) {
     if (!c.stop.stopped() && !(abandon && abandon())) {
       c.say(format("%s%s: could not raise the request (%s not READY)", indent.c_str(),
                    name(s).c_str(), responder));
@@ -116,8 +118,7 @@ Outcome request_service(Ctx& c, Service s, const char* responder, const std::str
                  ms_since(t0)));
   } else {
     c.say(format("%s%-15s %s after %.1f ms", indent.c_str(), name(s).c_str(),
-                 out == Outcome::Failed ? "FAILED (both sides FAIL)" : "TIMED OUT",
-                 ms_since(t0)));
+                 out == Outcome::Failed ? "FAILED (both sides FAIL)" : "TIMED OUT", ms_since(t0)));
   }
   return out;
 }
@@ -264,24 +265,24 @@ int run_machine(Ctx& c) {
                  cycle_now, done);
   });
   std::thread chuck([&] {
-    run_actuator(chuck_ctx,
-                 {Service::OpenChuck, Service::CloseChuck, "CHUCK_STATE", publish_chuck},
+    run_actuator(chuck_ctx, {Service::OpenChuck, Service::CloseChuck, "CHUCK_STATE", publish_chuck},
                  cycle_now, done);
   });
   MachineStats st;
   bool ok = true;
-  for (int cycle = 1; ok && !c.stop.stopped() && (c.options.cycles == 0 || cycle <= c.options.cycles);
-       ++cycle) {
+  for (int cycle = 1;
+       ok && !c.stop.stopped() && (c.options.cycles == 0 || cycle <= c.options.cycles); ++cycle) {
     cycle_now.store(cycle);
     ok = machine_cycle(c, cycle, st) || c.stop.stopped();
   }
   done.store(true);
   door.join();
   chuck.join();
-  c.say(format("cell summary: %d cycles complete, %d handshakes by the machine, %d failures, "
-               "%d recovered%s",
-               st.cycles, st.handshakes, st.failures, st.recovered,
-               ok ? "" : " -- STOPPED ON AN UNRECOVERED FAILURE"));
+  c.say(
+      format("cell summary: %d cycles complete, %d handshakes by the machine, %d failures, "
+             "%d recovered%s",
+             st.cycles, st.handshakes, st.failures, st.recovered,
+             ok ? "" : " -- STOPPED ON AN UNRECOVERED FAILURE"));
   return ok ? 0 : 1;
 }
 
@@ -390,9 +391,12 @@ int run_feeder(Ctx& c) {
 int run_station(StationId id, Link& link, const CellOptions& options, Stopper& stop) {
   Ctx c{id, link, options, stop, FaultPlan(options.seed, options.fail_every), {}};
   switch (id) {
-    case StationId::Machine: return run_machine(c);
-    case StationId::Robot: return run_robot(c);
-    case StationId::Feeder: return run_feeder(c);
+    case StationId::Machine:
+      return run_machine(c);
+    case StationId::Robot:
+      return run_robot(c);
+    case StationId::Feeder:
+      return run_feeder(c);
   }
   return 2;
 }

@@ -21,12 +21,12 @@ namespace mtc::cell {
 
 struct CellOptions {
   int domain_id = 110;
-  int cycles = 0;             // machine stops after this many; 0 = until stopped
-  int duration_s = 0;         // supervisor stops the cell after this; 0 = until stopped
-  int freeze_every_s = 0;     // supervisor freezes robot or feeder about this often; 0 = never
+  int cycles = 0;          // machine stops after this many; 0 = until stopped
+  int duration_s = 0;      // supervisor stops the cell after this; 0 = until stopped
+  int freeze_every_s = 0;  // supervisor freezes robot or feeder about this often; 0 = never
   std::uint64_t seed = 1;
-  int fail_every = 10;        // one injected failure per this many cycles; 0 = none
-  Millis pace{150};           // duration of one simulated motion
+  int fail_every = 10;              // one injected failure per this many cycles; 0 = none
+  Millis pace{150};                 // duration of one simulated motion
   Millis handshake_timeout{15000};  // a handshake that takes longer is a cell fault
   // DDS heartbeat of every station and how many may be missed before a peer
   // counts as lost (scenario 6). 200 ms x 5 = 1 s tolerates a loaded 2-core

@@ -84,8 +84,8 @@ class Supervisor {
       if (stopping_) wait = std::min<Clock::duration>(wait, kill_at_ - now);
       if (!stopping_ && freeze_at_) wait = std::min<Clock::duration>(wait, *freeze_at_ - now);
       if (!stopping_ && options_.duration_s > 0) {
-        wait = std::min<Clock::duration>(
-            wait, started + std::chrono::seconds(options_.duration_s) - now);
+        wait = std::min<Clock::duration>(wait,
+                                         started + std::chrono::seconds(options_.duration_s) - now);
       }
       const timespec ts = to_timespec(wait);
       const int sig = sigtimedwait(&signals, nullptr, &ts);
@@ -164,9 +164,9 @@ class Supervisor {
   void kill_survivors() {
     for (auto& c : children_) {
       if (!c.running) continue;
-      print_line("cell", format("%.*s (pid %d) did not stop in time: killed",
-                                static_cast<int>(to_string(c.id).size()), to_string(c.id).data(),
-                                c.pid));
+      print_line("cell",
+                 format("%.*s (pid %d) did not stop in time: killed",
+                        static_cast<int>(to_string(c.id).size()), to_string(c.id).data(), c.pid));
       kill(c.pid, SIGKILL);
     }
     kill_at_ = Clock::now() + std::chrono::seconds(5);
@@ -241,8 +241,7 @@ int supervise(const CellOptions& options, const std::vector<std::string>& statio
   }
   print_line("cell", format("stations started: machine pid %d, robot pid %d, feeder pid %d "
                             "(DDS domain %d)",
-                            children[2].pid, children[1].pid, children[0].pid,
-                            options.domain_id));
+                            children[2].pid, children[1].pid, children[0].pid, options.domain_id));
   const int rc = Supervisor(options, std::move(children)).run(set);
   print_line("cell", format("all stations stopped, exit code %d", rc));
   pthread_sigmask(SIG_SETMASK, &original, nullptr);

@@ -13,6 +13,8 @@
 //               back at READY: Table 1 steps 1-8, both sides READY.
 // The responder runs in this process (two participants, intra-process
 // delivery) or in a forked peer process over SHM+UDP or UDP only.
+#include "equipment_latency.hpp"
+
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -24,7 +26,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "equipment_latency.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mtc/dds/topics.hpp"
 
@@ -106,8 +107,7 @@ class Probe {
     const bool seen = event == core::Event::SeenActive || event == core::Event::SeenComplete;
     if (!seen || e.trigger_source_time_ns == 0) return;
     std::lock_guard<std::mutex> lock(mutex_);
-    transitions_.push_back(static_cast<double>(e.step_time_ns - e.trigger_source_time_ns) /
-                           1000.0);
+    transitions_.push_back(static_cast<double>(e.step_time_ns - e.trigger_source_time_ns) / 1000.0);
     if (event == core::Event::SeenComplete) completed_ = true;
   }
 
@@ -155,9 +155,8 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes) {
     const auto t0 = dds::topics::realtime_ns();
     // The first request also waits for discovery and pairing.
     const auto result = req.request(dds::RequestOptions{i == 0 ? 10000ms : 2000ms}).get();
-    const auto both_ready = result.outcome == dds::Outcome::Completed
-                                ? probe.wait_both_ready(5000ms)
-                                : std::int64_t{0};
+    const auto both_ready =
+        result.outcome == dds::Outcome::Completed ? probe.wait_both_ready(5000ms) : std::int64_t{0};
     if (i < warmup) continue;
     if (both_ready == 0) {
       ++run.handshake.timeouts;
@@ -192,8 +191,8 @@ void stop_peer(pid_t pid) {
 }
 
 PairRun run_config(int domain, qos::Transport t, int processes, int handshakes) {
-  std::cerr << "equipment latency: " << transport_name(t) << ", " << processes
-            << " process(es), " << handshakes << " handshakes\n";
+  std::cerr << "equipment latency: " << transport_name(t) << ", " << processes << " process(es), "
+            << handshakes << " handshakes\n";
   PairRun run;
   if (processes == 1) {
     auto responder = make_responder(domain, t);

@@ -11,6 +11,8 @@ std::vector<Series> run_equipment_series(const EquipmentBenchOptions&) {
   return {};
 }
 
-int run_equipment_peer(int, bool) { return 1; }
+int run_equipment_peer(int, bool) {
+  return 1;
+}
 
 }  // namespace mtc::bench

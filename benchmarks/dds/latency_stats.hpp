@@ -62,8 +62,8 @@ inline std::string to_json(const Series& series) {
                 "\"processes\":%d,\"unit\":\"us\",\"count\":%zu,\"timeouts\":%zu,"
                 "\"min\":%.1f,\"mean\":%.1f,\"p50\":%.1f,\"p90\":%.1f,\"p99\":%.1f,\"max\":%.1f}",
                 series.name.c_str(), series.layer.c_str(), series.metric.c_str(),
-                series.transport.c_str(), series.processes, s.count, series.timeouts, s.min,
-                s.mean, s.p50, s.p90, s.p99, s.max);
+                series.transport.c_str(), series.processes, s.count, series.timeouts, s.min, s.mean,
+                s.p50, s.p90, s.p99, s.max);
   return buf;
 }
 

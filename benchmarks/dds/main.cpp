@@ -30,7 +30,9 @@ using mtc::bench::Transport;
 
 std::atomic<bool> g_peer_stop{false};
 
-extern "C" void on_peer_signal(int) { g_peer_stop.store(true); }
+extern "C" void on_peer_signal(int) {
+  g_peer_stop.store(true);
+}
 
 struct Options {
   int samples = 2000;
@@ -164,8 +166,8 @@ Series run_raw(const Options& o, Transport t, int processes, int domain) {
     waitpid(peer, &status, 0);
   }
   s.processes = processes;
-  s.name = "raw_fastdds_round_trip_" + mtc::bench::to_string(t) + "_" +
-           std::to_string(processes) + "proc";
+  s.name = "raw_fastdds_round_trip_" + mtc::bench::to_string(t) + "_" + std::to_string(processes) +
+           "proc";
   return s;
 }
 

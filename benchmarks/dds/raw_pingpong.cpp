@@ -11,7 +11,6 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-
 #include <memory>
 #include <stdexcept>
 #include <thread>
