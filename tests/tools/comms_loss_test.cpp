@@ -102,6 +102,12 @@ TEST(CommsLoss, RestartedResponderRecoversAndNoHandshakeIsLost) {
     ASSERT_TRUE(line) << second->transcript();
     EXPECT_EQ(json_field(*line, "result"), "COMPLETE");
   }
+  // Scenario 6 on reconnection: the new responder met the request in FAIL and
+  // went FAIL too (acknowledging it) before both returned to READY.
+  const auto before_first = transitions(*second, 0);
+  EXPECT_NE(std::find(before_first.begin(), before_first.end(), "response:FAIL"),
+            before_first.end())
+      << second->transcript();
 }
 
 TEST(CommsLoss, HungRequesterIsDetectedAndBothRecoverAfterResume) {

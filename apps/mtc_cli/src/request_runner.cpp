@@ -137,7 +137,9 @@ Result RequestRunner::handshake(TimePoint deadline) {
 void RequestRunner::try_recover() {
   // recover() is refused until the responder acknowledged our FAIL or the
   // fail-ack time limit passed; retried on every event and at that limit.
-  if (own_ != InteractionState::Fail) {
+  // Never while the responder is gone: scenario 6 wants both sides to meet
+  // again in FAIL, not to assume the other is still READY.
+  if (own_ != InteractionState::Fail || peer_lost_) {
     return;
   }
   link_.recover(service_);

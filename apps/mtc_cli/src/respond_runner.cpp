@@ -95,6 +95,7 @@ void RespondRunner::on_event(const LinkEvent& e) {
   if (e.kind == LinkEvent::Kind::CounterpartLost ||
       e.kind == LinkEvent::Kind::CounterpartRestored) {
     const bool lost = e.kind == LinkEvent::Kind::CounterpartLost;
+    peer_lost_ = lost;
     for (auto& slot : slots_) {
       if (lost) {
         slot.peer = InteractionState::Unavailable;
@@ -157,7 +158,8 @@ void RespondRunner::on_event(const LinkEvent& e) {
 
 // Recovery and cycle closing, re-checked after every event and timer.
 void RespondRunner::maintain(Slot& slot) {
-  if (slot.own == InteractionState::Fail) {
+  // No recovery while the requester is gone (scenario 6: meet again in FAIL).
+  if (slot.own == InteractionState::Fail && !peer_lost_) {
     link_.recover(slot.service);
   }
   if (slot.busy && slot.reported && idle(slot.own) && idle(slot.peer)) {

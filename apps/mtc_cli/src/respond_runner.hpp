@@ -64,6 +64,7 @@ class RespondRunner {
   EquipmentLink& link_;
   EventQueue& events_;
   std::vector<Slot> slots_;
+  bool peer_lost_ = false;
   std::uint64_t started_ = 0;
   std::uint64_t closed_ = 0;
 };
