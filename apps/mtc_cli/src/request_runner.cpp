@@ -32,8 +32,10 @@ bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
     return false;
   }
   event = *e;
-  if (event.service != service_ && event.kind != LinkEvent::Kind::CounterpartLost &&
-      event.kind != LinkEvent::Kind::CounterpartRestored) {
+  const bool interface_wide = event.kind == LinkEvent::Kind::CounterpartLost ||
+                              event.kind == LinkEvent::Kind::CounterpartRestored ||
+                              !event.detail.empty();
+  if (event.service != service_ && !interface_wide) {
     return true;
   }
   switch (event.kind) {
