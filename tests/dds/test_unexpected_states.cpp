@@ -130,3 +130,41 @@ TEST(MultiDevice, LossOfOneCounterpartLeavesTheOtherInterfaceAlone) {
 
 }  // namespace
 }  // namespace mtc::dds::testing
+
+namespace mtc::dds::testing {
+namespace {
+
+// RecoveryPolicy::Always: after the responder's own failure (scenario 2)
+// both sides return to READY without recover() calls.
+TEST(Recovery, AlwaysPolicyClearsEveryAcknowledgedFail) {
+  Recorder rec;
+  auto cnc_o = options(45, "cnc-al");
+  cnc_o.recovery = RecoveryPolicy::Always;
+  auto robot_o = options(45, "robot-al");
+  robot_o.recovery = RecoveryPolicy::Always;
+  Equipment cnc(cnc_o, rec.callbacks());
+  Equipment robot(robot_o, rec.callbacks());
+  cnc.add_interface({"ch1", core::InterfaceType::Chuck, "", {"robot-al", "ch1"}});
+  InterfaceConfig chuck{"ch1", core::InterfaceType::Chuck, "", {"cnc-al", "ch1"}};
+  chuck.publishes_chuck_state = true;
+  chuck.initial_chuck_state = core::ChuckState::Open;
+  robot.add_interface(chuck);
+  auto& close = cnc.add_requester("ch1", Service::CloseChuck);
+  ResponderCallbacks cb;
+  cb.on_request = [](Responder& r) { r.fail(); };  // the chuck jams
+  auto& resp = robot.add_responder("ch1", Service::CloseChuck, cb);
+  cnc.start();
+  robot.start();
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  EXPECT_EQ(close.request(wait).get().outcome, Outcome::Failed);
+  EXPECT_TRUE(rec.wait_state(close, InteractionState::Ready));
+  EXPECT_TRUE(rec.wait_state(resp, InteractionState::Ready));
+  // Once the chuck is CLOSED, CLOSE_CHUCK can no longer be served.
+  robot.set_chuck_state("ch1", core::ChuckState::Closed).get();
+  EXPECT_EQ(resp.state(), InteractionState::NotReady);
+  EXPECT_TRUE(rec.wait([&] { return close.counterpart_state() == InteractionState::NotReady; }));
+}
+
+}  // namespace
+}  // namespace mtc::dds::testing
