@@ -3,7 +3,8 @@
 # (machine tool, robot, bar feeder: apps/cell) and the MTConnect bridge
 # together inside one private, loopback-only network namespace.
 #
-#   ./scripts/start.sh [--no-build] [--port N] [cell options]   run the cell (Ctrl-C stops it)
+#   ./scripts/start.sh [--no-build] [--port N] [--domain D] [cell options]
+#                                      run the cell and the bridge (Ctrl-C stops both)
 #   ./scripts/start.sh --query PATH    from another terminal: GET PATH from the running bridge
 #   ./scripts/start.sh --enter [CMD]   from another terminal: a shell (or CMD) inside the namespace
 #
@@ -18,7 +19,7 @@ pidfile="$build/mtc-cell.netns.pid"  # a process inside the running cell's names
 domain=110                            # DDS domain of the cell (ids 100-119: cell and benchmarks)
 port=5000
 
-usage() { sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
 
 # Prints the pid of a process in the running cell's namespace, or fails.
 cell_ns_pid() {
@@ -68,6 +69,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --no-build) build_first=0; shift ;;
     --port) port="${2:?--port needs a value}"; shift 2 ;;
+    --domain) domain="${2:?--domain needs a value}"; shift 2 ;;
     --inner) shift ;;  # set by the re-exec below
     *) cell_args+=("$1"); shift ;;
   esac
@@ -79,7 +81,8 @@ if [ "${MTC_IN_NETNS:-}" != "1" ]; then
   fi
   # SHM segments of a cell killed earlier would only confuse the new one.
   fastdds shm clean >/dev/null 2>&1 || true
-  exec "$root/scripts/netns-run.sh" "$0" --inner --no-build --port "$port" "${cell_args[@]}"
+  exec "$root/scripts/netns-run.sh" "$0" --inner --no-build --port "$port" --domain "$domain" \
+    "${cell_args[@]}"
 fi
 
 # ------------------------------------------- inside the namespace from here

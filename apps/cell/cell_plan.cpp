@@ -28,7 +28,9 @@ std::string_view to_string(StationId id) noexcept {
 
 std::optional<StationId> parse_station(std::string_view text) noexcept {
   for (auto id : {StationId::Machine, StationId::Robot, StationId::Feeder}) {
-    if (text == to_string(id)) return id;
+    if (text == to_string(id)) {
+      return id;
+    }
   }
   return std::nullopt;
 }
@@ -61,10 +63,14 @@ Fault describe(FaultPoint point, int cycle) noexcept {
 }
 
 std::optional<Fault> FaultPlan::at(int cycle) const noexcept {
-  if (every_ <= 0 || cycle <= 0) return std::nullopt;
+  if (every_ <= 0 || cycle <= 0) {
+    return std::nullopt;
+  }
   const auto block = static_cast<std::uint64_t>((cycle - 1) / every_);
   const auto position = static_cast<int>(mix(seed_ ^ (block << 1)) % static_cast<unsigned>(every_));
-  if ((cycle - 1) % every_ != position) return std::nullopt;
+  if ((cycle - 1) % every_ != position) {
+    return std::nullopt;
+  }
   const auto first = mix(seed_) % kFaultPointCount;
   const auto turn = static_cast<int>((first + block) % kFaultPointCount);
   return describe(static_cast<FaultPoint>(turn), cycle);

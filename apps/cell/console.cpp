@@ -38,7 +38,9 @@ std::string format(const char* fmt, ...) {
   va_start(args, fmt);
   const int n = std::vsnprintf(buf, sizeof buf, fmt, args);
   va_end(args);
-  if (n < 0) return {};
+  if (n < 0) {
+    return {};
+  }
   return std::string(
       buf, static_cast<std::size_t>(n) < sizeof buf ? static_cast<std::size_t>(n) : sizeof buf - 1);
 }

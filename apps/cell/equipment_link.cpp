@@ -84,13 +84,19 @@ bool recover_handle(dds::ServiceHandle& h, Shared& shared, Millis timeout) {
     // NOT_READY counts: a responder whose door/chuck precondition forbids
     // the service recovers to NOT_READY (Table 6), which is idle and sound.
     const auto state = h.state();
-    if (is_idle(state)) return true;
+    if (is_idle(state)) {
+      return true;
+    }
     if (state == InteractionState::Fail) {
       h.recover().get();
-      if (is_idle(h.state())) return true;
+      if (is_idle(h.state())) {
+        return true;
+      }
     }
     const auto now = std::chrono::steady_clock::now();
-    if (now >= deadline) return false;
+    if (now >= deadline) {
+      return false;
+    }
     shared.wait(std::chrono::duration_cast<Millis>(deadline - now),
                 [&] { return h.state() != state; });
   }
@@ -127,11 +133,17 @@ class DdsRequestPort : public RequestPort {
   Outcome wait_outcome(Millis timeout) override {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     if (!result_ && pending_.valid()) {
-      if (pending_.wait_for(timeout) != std::future_status::ready) return Outcome::TimedOut;
+      if (pending_.wait_for(timeout) != std::future_status::ready) {
+        return Outcome::TimedOut;
+      }
       result_ = pending_.get();
     }
-    if (!result_) return Outcome::Failed;
-    if (result_->outcome != dds::Outcome::Completed) return Outcome::Failed;
+    if (!result_) {
+      return Outcome::Failed;
+    }
+    if (result_->outcome != dds::Outcome::Completed) {
+      return Outcome::Failed;
+    }
     // Steps 7-8: the responder returns to READY (NOT_READY when, say, the
     // door it just opened now forbids another OPEN_DOOR).
     const auto left =
@@ -239,7 +251,9 @@ class EquipmentLink : public Link {
     eo.timing.missed_heartbeats = options.missed_heartbeats;
     equipment_ = std::make_unique<dds::Equipment>(eo, callbacks());
     const Layout l = layout_of(id);
-    for (const auto& i : l.interfaces) equipment_->add_interface(i);
+    for (const auto& i : l.interfaces) {
+      equipment_->add_interface(i);
+    }
     dds::ServiceOptions so;
     so.auto_accept = false;  // the stations accept (or fail at once: scenario 1)
     for (Service s : l.requests) {
@@ -312,7 +326,9 @@ class EquipmentLink : public Link {
     cb.on_diagnostic = [this](const std::string& text) {
       // "ignored ... after only N ms of silence": the runtime filtering a
       // false loss alarm; the cell's log is about the cell, so leave it out.
-      if (text.rfind("ignored", 0) == 0) return;
+      if (text.rfind("ignored", 0) == 0) {
+        return;
+      }
       print_line(to_string(id_), "runtime: " + text);
     };
     return cb;
@@ -320,10 +336,14 @@ class EquipmentLink : public Link {
 
   void note_value(const dds::ObservedValue& v) {
     if (v.kind == dds::ItemKind::Interaction) {
-      if (v.heartbeat_count == 0) shared_.touch();  // a change: waits re-check
+      if (v.heartbeat_count == 0) {
+        shared_.touch();  // a change: waits re-check
+      }
       return;
     }
-    if (v.kind != dds::ItemKind::DoorState && v.kind != dds::ItemKind::ChuckState) return;
+    if (v.kind != dds::ItemKind::DoorState && v.kind != dds::ItemKind::ChuckState) {
+      return;
+    }
     {
       std::lock_guard<std::mutex> lock(shared_.mutex);
       if (v.kind == dds::ItemKind::DoorState) {

@@ -66,7 +66,9 @@ struct LocalBus::Impl {
         note(w, w.req.on_counterpart(w.resp_seen_by_req, now));
         changed = true;
       }
-      if (!changed) break;
+      if (!changed) {
+        break;
+      }
     }
   }
 
@@ -74,7 +76,9 @@ struct LocalBus::Impl {
     for (auto& w : wires) {
       for (core::ServiceMachine* m : {static_cast<core::ServiceMachine*>(&w->req),
                                       static_cast<core::ServiceMachine*>(&w->resp)}) {
-        while (m->next_deadline() <= now) note(*w, m->on_tick(now));
+        while (m->next_deadline() <= now) {
+          note(*w, m->on_tick(now));
+        }
       }
       propagate(*w, now);
     }
@@ -101,7 +105,9 @@ struct LocalBus::Impl {
     const auto deadline = core::Clock::now() + timeout;
     while (!pred()) {
       const auto now = core::Clock::now();
-      if (now >= deadline) return false;
+      if (now >= deadline) {
+        return false;
+      }
       cv.wait_for(lock, std::min<core::Duration>(kTickSlice, deadline - now));
       tick(core::Clock::now());
     }

@@ -37,7 +37,9 @@ void usage(std::ostream& out) {
 bool parse_number(const std::string& text, long min, long max, long& out) {
   char* end = nullptr;
   const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || v < min || v > max) return false;
+  if (text.empty() || *end != '\0' || v < min || v > max) {
+    return false;
+  }
   out = v;
   return true;
 }
@@ -63,19 +65,23 @@ std::string parse(int argc, char** argv, Parsed& p) {
       p.mode = Mode::Local;
       continue;
     }
-    if (i + 1 >= argc) return "unknown option or missing value: " + a;
+    if (i + 1 >= argc) {
+      return "unknown option or missing value: " + a;
+    }
     const std::string v = argv[++i];
     long n = 0;
     if (a == "--station") {
       const auto id = mtc::cell::parse_station(v);
-      if (!id) return "unknown station '" + v + "' (machine, robot or feeder)";
+      if (!id) {
+        return "unknown station '" + v + "' (machine, robot or feeder)";
+      }
       p.mode = Mode::Station;
       p.station = *id;
       continue;
     }
     if (a == "--cycles" && parse_number(v, 0, 1000000, n)) {
       p.options.cycles = static_cast<int>(n);
-    } else if (a == "--duration" && parse_number(v, 0, 86400 * 365, n)) {
+    } else if (a == "--duration" && parse_number(v, 0, 86400L * 365, n)) {
       p.options.duration_s = static_cast<int>(n);
       continue;  // the supervisor's business, not the stations'
     } else if (a == "--comms-loss-every" && parse_number(v, 0, 86400, n)) {
@@ -94,7 +100,8 @@ std::string parse(int argc, char** argv, Parsed& p) {
     } else if (a == "--domain" && parse_number(v, 0, 232, n)) {
       p.options.domain_id = static_cast<int>(n);
     } else {
-      return "bad option or value: " + a + " " + v;
+      return "bad option or value: " + a + " " +
+             v;  // NOLINT(performance-inefficient-string-concatenation)
     }
     p.station_args.push_back(a);
     p.station_args.push_back(v);

@@ -74,8 +74,12 @@ template <class Step>
 bool in_slices(const Ctx& c, Millis total, Step step, const Abandon& abandon = {}) {
   const auto deadline = Clock::now() + total;
   while (!c.stop.stopped() && !(abandon && abandon())) {
-    if (step(kPoll)) return true;
-    if (Clock::now() >= deadline) return false;
+    if (step(kPoll)) {
+      return true;
+    }
+    if (Clock::now() >= deadline) {
+      return false;
+    }
   }
   return false;
 }
@@ -112,7 +116,9 @@ Outcome request_service(Ctx& c, Service s, const char* responder, const std::str
     out = port.wait_outcome(m);
     return out != Outcome::TimedOut;
   });
-  if (c.stop.stopped()) return out;
+  if (c.stop.stopped()) {
+    return out;
+  }
   if (out == Outcome::Completed) {
     c.say(format("%s%-15s done in %.1f ms, both READY", indent.c_str(), name(s).c_str(),
                  ms_since(t0)));
@@ -171,9 +177,13 @@ bool machine_step(Ctx& c, int cycle, Service s, MachineStats& st) {
       ++st.handshakes;
       return true;
     }
-    if (c.stop.stopped()) return false;
+    if (c.stop.stopped()) {
+      return false;
+    }
     ++st.failures;
-    if (!recover_request(c, s, "")) return false;
+    if (!recover_request(c, s, "")) {
+      return false;
+    }
     ++st.recovered;
     c.say(format("%s: retrying (attempt %d)", name(s).c_str(), attempt + 1));
   }
@@ -183,11 +193,19 @@ bool machine_step(Ctx& c, int cycle, Service s, MachineStats& st) {
 bool machine_cycle(Ctx& c, int cycle, MachineStats& st) {
   const auto t0 = Clock::now();
   c.say(format("=== cycle %d begins", cycle));
-  if (!machine_step(c, cycle, Service::MaterialFeed, st)) return false;
-  if (!machine_step(c, cycle, Service::MaterialLoad, st)) return false;
+  if (!machine_step(c, cycle, Service::MaterialFeed, st)) {
+    return false;
+  }
+  if (!machine_step(c, cycle, Service::MaterialLoad, st)) {
+    return false;
+  }
   c.say(format("machining part %d (door CLOSED, chuck CLOSED)", cycle));
-  if (!c.stop.sleep_for(c.options.pace * 4)) return false;
-  if (!machine_step(c, cycle, Service::MaterialUnload, st)) return false;
+  if (!c.stop.sleep_for(c.options.pace * 4)) {
+    return false;
+  }
+  if (!machine_step(c, cycle, Service::MaterialUnload, st)) {
+    return false;
+  }
   ++st.cycles;
   c.say(format("=== cycle %d complete in %.2f s", cycle, ms_since(t0) / 1000.0));
   return true;
@@ -214,7 +232,9 @@ void publish_chuck(Link& l, bool open, bool moving) {
 void actuator_job(Ctx& c, const Actuator& a, Service job, int cycle, bool& is_open) {
   ResponsePort& port = c.link.responder(job);
   const bool want_open = job == a.open;
-  if (!port.accept()) return;
+  if (!port.accept()) {
+    return;
+  }
   c.say(format("  %-15s ACTIVE, %s %s", name(job).c_str(), a.item,
                is_open == want_open ? "already there" : "UNLATCHED"));
   if (job == Service::OpenDoor && !is_open && c.take_fault(cycle, FaultPoint::DoorJams)) {
@@ -229,7 +249,9 @@ void actuator_job(Ctx& c, const Actuator& a, Service job, int cycle, bool& is_op
   }
   if (is_open != want_open) {
     a.publish(c.link, is_open, true);
-    if (!c.stop.sleep_for(c.options.pace)) return;
+    if (!c.stop.sleep_for(c.options.pace)) {
+      return;
+    }
     is_open = want_open;
     a.publish(c.link, is_open, false);
   }
@@ -240,7 +262,9 @@ void actuator_job(Ctx& c, const Actuator& a, Service job, int cycle, bool& is_op
   }
   // Logged first: once published, the robot's reaction may print before us.
   c.say(format("  %-15s COMPLETE, %s %s", name(job).c_str(), a.item, is_open ? "OPEN" : "CLOSED"));
-  if (!port.complete()) recover_response(c, job, "  ");
+  if (!port.complete()) {
+    recover_response(c, job, "  ");
+  }
 }
 
 void run_actuator(Ctx& c, const Actuator& a, const std::atomic<int>& cycle_now,
@@ -249,7 +273,9 @@ void run_actuator(Ctx& c, const Actuator& a, const std::atomic<int>& cycle_now,
   a.publish(c.link, is_open, false);
   while (!c.stop.stopped() && !done.load()) {
     const auto job = c.link.wait_job({a.open, a.close}, kPoll);
-    if (job) actuator_job(c, a, *job, cycle_now.load(), is_open);
+    if (job) {
+      actuator_job(c, a, *job, cycle_now.load(), is_open);
+    }
   }
 }
 
@@ -294,7 +320,9 @@ JobEnd robot_job(Ctx& c, ResponsePort& port, bool load, int cycle) {
   const Service steps[] = {Service::OpenDoor, Service::OpenChuck, Service::CloseChuck,
                            Service::CloseDoor};
   for (std::size_t i = 0; i < 4; ++i) {
-    if (c.stop.stopped()) return JobEnd::Stopped;
+    if (c.stop.stopped()) {
+      return JobEnd::Stopped;
+    }
     if (port.cancelled()) {
       c.say("  the machine left ACTIVE: job aborted, response FAIL");
       return JobEnd::Aborted;
@@ -306,7 +334,9 @@ JobEnd robot_job(Ctx& c, ResponsePort& port, bool load, int cycle) {
         port.fail();
         return JobEnd::Aborted;
       }
-      if (!c.stop.sleep_for(c.options.pace * 2)) return JobEnd::Stopped;
+      if (!c.stop.sleep_for(c.options.pace * 2)) {
+        return JobEnd::Stopped;
+      }
     }
     if (c.link.holds(steps[i])) {
       c.say(format("  %-15s skipped: already done", name(steps[i]).c_str()));
@@ -319,7 +349,9 @@ JobEnd robot_job(Ctx& c, ResponsePort& port, bool load, int cycle) {
     }
     const Abandon aborted = [&port] { return port.cancelled(); };
     if (request_service(c, steps[i], "machine", "  ", fault, aborted) != Outcome::Completed) {
-      if (c.stop.stopped()) return JobEnd::Stopped;
+      if (c.stop.stopped()) {
+        return JobEnd::Stopped;
+      }
       recover_request(c, steps[i], "  ");
       if (port.cancelled()) {
         c.say("  the machine left ACTIVE (or was lost): job aborted");
@@ -337,14 +369,20 @@ int run_robot(Ctx& c) {
   int done[2] = {0, 0};  // completed loads, unloads: the cycle each job belongs to
   while (!c.stop.stopped()) {
     const auto job = c.link.wait_job({Service::MaterialLoad, Service::MaterialUnload}, kPoll);
-    if (!job) continue;
+    if (!job) {
+      continue;
+    }
     const bool load = *job == Service::MaterialLoad;
     ResponsePort& port = c.link.responder(*job);
-    if (!port.accept()) continue;
+    if (!port.accept()) {
+      continue;
+    }
     c.say(format("%-15s ACTIVE: %s", name(*job).c_str(),
                  load ? "loading a blank" : "unloading the finished part"));
     const JobEnd end = robot_job(c, port, load, done[load ? 0 : 1] + 1);
-    if (end == JobEnd::Stopped) break;
+    if (end == JobEnd::Stopped) {
+      break;
+    }
     if (end == JobEnd::Done) {
       c.say(format("%-15s COMPLETE", name(*job).c_str()));
       if (port.complete()) {
@@ -363,7 +401,9 @@ int run_feeder(Ctx& c) {
   int feeds = 0;
   while (!c.stop.stopped()) {
     const auto job = c.link.wait_job({Service::MaterialFeed}, kPoll);
-    if (!job) continue;
+    if (!job) {
+      continue;
+    }
     ResponsePort& port = c.link.responder(*job);
     if (c.take_fault(feeds + 1, FaultPoint::FeederRefusesFeed)) {
       announce_fault(c, "", describe(FaultPoint::FeederRefusesFeed, feeds + 1));
@@ -371,9 +411,13 @@ int run_feeder(Ctx& c) {
       recover_response(c, *job, "");
       continue;
     }
-    if (!port.accept()) continue;
+    if (!port.accept()) {
+      continue;
+    }
     c.say("MATERIAL_FEED   ACTIVE: advancing bar stock to the pick position");
-    if (!c.stop.sleep_for(c.options.pace * 2)) break;
+    if (!c.stop.sleep_for(c.options.pace * 2)) {
+      break;
+    }
     if (!port.cancelled()) {
       c.say("MATERIAL_FEED   COMPLETE");
       if (port.complete()) {

@@ -41,8 +41,12 @@ sigset_t control_signals() {
 }
 
 int exit_code_of(int status) {
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  if (WIFEXITED(status)) {
+    return WEXITSTATUS(status);
+  }
+  if (WIFSIGNALED(status)) {
+    return 128 + WTERMSIG(status);
+  }
   return 1;
 }
 
@@ -52,20 +56,29 @@ pid_t spawn(StationId id, const std::vector<std::string>& args, const sigset_t& 
   std::vector<std::string> argv_store = {"mtc-cell", "--station", std::string(to_string(id))};
   argv_store.insert(argv_store.end(), args.begin(), args.end());
   std::vector<char*> argv;
-  for (auto& a : argv_store) argv.push_back(a.data());
+  argv.reserve(argv_store.size() + 1);
+  for (auto& a : argv_store) {
+    argv.push_back(a.data());
+  }
   argv.push_back(nullptr);
   const pid_t parent = getpid();
   const pid_t pid = fork();
-  if (pid != 0) return pid;  // parent (or -1)
+  if (pid != 0) {
+    return pid;  // parent (or -1)
+  }
   pthread_sigmask(SIG_SETMASK, &original_mask, nullptr);
   prctl(PR_SET_PDEATHSIG, SIGTERM);
-  if (getppid() != parent) _exit(1);
+  if (getppid() != parent) {
+    _exit(1);
+  }
   execv("/proc/self/exe", argv.data());
   _exit(127);
 }
 
 timespec to_timespec(Clock::duration d) {
-  if (d < Clock::duration::zero()) d = Clock::duration::zero();
+  if (d < Clock::duration::zero()) {
+    d = Clock::duration::zero();
+  }
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(d).count();
   return timespec{static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
 }
@@ -81,8 +94,12 @@ class Supervisor {
     while (any_running()) {
       const auto now = Clock::now();
       Clock::duration wait = std::chrono::seconds(1);
-      if (stopping_) wait = std::min<Clock::duration>(wait, kill_at_ - now);
-      if (!stopping_ && freeze_at_) wait = std::min<Clock::duration>(wait, *freeze_at_ - now);
+      if (stopping_) {
+        wait = std::min<Clock::duration>(wait, kill_at_ - now);
+      }
+      if (!stopping_ && freeze_at_) {
+        wait = std::min<Clock::duration>(wait, *freeze_at_ - now);
+      }
       if (!stopping_ && options_.duration_s > 0) {
         wait = std::min<Clock::duration>(wait,
                                          started + std::chrono::seconds(options_.duration_s) - now);
@@ -97,8 +114,12 @@ class Supervisor {
           Clock::now() >= started + std::chrono::seconds(options_.duration_s)) {
         begin_stop("duration reached", 0);
       }
-      if (stopping_ && Clock::now() >= kill_at_) kill_survivors();
-      if (!stopping_ && freeze_at_ && Clock::now() >= *freeze_at_) freeze_or_thaw();
+      if (stopping_ && Clock::now() >= kill_at_) {
+        kill_survivors();
+      }
+      if (!stopping_ && freeze_at_ && Clock::now() >= *freeze_at_) {
+        freeze_or_thaw();
+      }
     }
     return exit_code_;
   }
@@ -106,7 +127,9 @@ class Supervisor {
  private:
   bool any_running() const {
     for (const auto& c : children_) {
-      if (c.running) return true;
+      if (c.running) {
+        return true;
+      }
     }
     return false;
   }
@@ -114,7 +137,9 @@ class Supervisor {
   // Scenario 6 staged for real: a station process is frozen (SIGSTOP) long
   // enough for its peers' liveliness lease to expire, then resumed.
   void schedule_freeze(Clock::time_point from) {
-    if (options_.freeze_every_s <= 0) return;
+    if (options_.freeze_every_s <= 0) {
+      return;
+    }
     // Seeded jitter: between 0.5 and 1.5 times the period.
     rng_state_ = rng_state_ * 6364136223846793005ULL + 1442695040888963407ULL;
     const auto period_ms = options_.freeze_every_s * 1000;
@@ -134,7 +159,9 @@ class Supervisor {
     }
     // Robot and feeder take turns; the machine keeps the cycle's account.
     Child& c = children_[(freezes_++ % 2 == 0) ? 1 : 0];
-    if (!c.running) return;
+    if (!c.running) {
+      return;
+    }
     kill(c.pid, SIGSTOP);
     frozen_ = &c;
     print_line("cell", format("!! %s frozen (SIGSTOP) for %.1f s: loss of communication, "
@@ -150,20 +177,26 @@ class Supervisor {
   }
 
   void begin_stop(const char* why, int code) {
-    if (frozen_) kill(frozen_->pid, SIGCONT);  // a stopped process cannot act on SIGTERM
+    if (frozen_) {
+      kill(frozen_->pid, SIGCONT);  // a stopped process cannot act on SIGTERM
+    }
     frozen_ = nullptr;
     stopping_ = true;
     exit_code_ = code;
     kill_at_ = Clock::now() + std::chrono::seconds(5);
     print_line("cell", format("%s: stopping every station", why));
     for (const auto& c : children_) {
-      if (c.running) kill(c.pid, SIGTERM);
+      if (c.running) {
+        kill(c.pid, SIGTERM);
+      }
     }
   }
 
   void kill_survivors() {
     for (auto& c : children_) {
-      if (!c.running) continue;
+      if (!c.running) {
+        continue;
+      }
       print_line("cell",
                  format("%.*s (pid %d) did not stop in time: killed",
                         static_cast<int>(to_string(c.id).size()), to_string(c.id).data(), c.pid));
@@ -174,12 +207,18 @@ class Supervisor {
 
   void reap() {
     for (auto& c : children_) {
-      if (!c.running) continue;
+      if (!c.running) {
+        continue;
+      }
       int status = 0;
-      if (waitpid(c.pid, &status, WNOHANG) != c.pid) continue;
+      if (waitpid(c.pid, &status, WNOHANG) != c.pid) {
+        continue;
+      }
       c.running = false;
       c.exit_code = exit_code_of(status);
-      if (stopping_) continue;
+      if (stopping_) {
+        continue;
+      }
       const auto name = to_string(c.id);
       if (c.id == StationId::Machine) {
         begin_stop("the machine finished its cycles", c.exit_code);
@@ -217,8 +256,12 @@ void wait_for_end(const sigset_t& set, int duration_s) {
   for (;;) {
     const timespec ts = to_timespec(duration_s > 0 ? until - Clock::now() : std::chrono::hours(1));
     const int sig = sigtimedwait(&set, nullptr, &ts);
-    if (sig == SIGINT || sig == SIGTERM || sig == SIGUSR1) return;
-    if (duration_s > 0 && Clock::now() >= until) return;
+    if (sig == SIGINT || sig == SIGTERM || sig == SIGUSR1) {
+      return;
+    }
+    if (duration_s > 0 && Clock::now() >= until) {
+      return;
+    }
   }
 }
 
@@ -232,9 +275,13 @@ int supervise(const CellOptions& options, const std::vector<std::string>& statio
   for (StationId id : {StationId::Feeder, StationId::Robot, StationId::Machine}) {
     const pid_t pid = spawn(id, station_args, original);
     if (pid < 0) {
-      print_line("cell", format("cannot start a station: %s", std::strerror(errno)));
-      for (auto& c : children) kill(c.pid, SIGTERM);
-      for (auto& c : children) waitpid(c.pid, nullptr, 0);
+      print_line("cell", format("cannot start a station: fork failed (errno %d)", errno));
+      for (auto& c : children) {
+        kill(c.pid, SIGTERM);
+      }
+      for (auto& c : children) {
+        waitpid(c.pid, nullptr, 0);
+      }
       return 1;
     }
     children.push_back({id, pid, true, 0});
@@ -283,7 +330,9 @@ int run_all_in_process(const CellOptions& options, bool local) {
       mo.limits.fail_ack = std::chrono::seconds(2);
       bus = std::make_unique<LocalBus>(mo);
     } else {
-      for (StationId id : ids) links.push_back(make_equipment_link(id, options));
+      for (StationId id : ids) {
+        links.push_back(make_equipment_link(id, options));
+      }
     }
   } catch (const std::exception& e) {
     print_line("cell", format("cannot start: %s", e.what()));
@@ -304,7 +353,9 @@ int run_all_in_process(const CellOptions& options, bool local) {
   }
   wait_for_end(set, options.duration_s);
   stop.stop();
-  for (auto& t : threads) t.join();
+  for (auto& t : threads) {
+    t.join();
+  }
   return rc.load();
 }
 

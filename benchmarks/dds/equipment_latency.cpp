@@ -32,7 +32,6 @@
 namespace mtc::bench {
 namespace {
 
-using core::InteractionState;
 using core::Service;
 using namespace std::chrono_literals;
 
@@ -105,10 +104,14 @@ class Probe {
   void on_transition(const dds::TransitionEvent& e) {
     const auto event = e.step.event;
     const bool seen = event == core::Event::SeenActive || event == core::Event::SeenComplete;
-    if (!seen || e.trigger_source_time_ns == 0) return;
+    if (!seen || e.trigger_source_time_ns == 0) {
+      return;
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     transitions_.push_back(static_cast<double>(e.step_time_ns - e.trigger_source_time_ns) / 1000.0);
-    if (event == core::Event::SeenComplete) completed_ = true;
+    if (event == core::Event::SeenComplete) {
+      completed_ = true;
+    }
   }
 
   // The response's return to READY (step 8) leaves the requester's machine
@@ -121,7 +124,9 @@ class Probe {
     const auto now = dds::topics::realtime_ns();
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!completed_ || ready_seen_ns_ != 0) return;
+      if (!completed_ || ready_seen_ns_ != 0) {
+        return;
+      }
       transitions_.push_back(static_cast<double>(now - v.source_time_ns) / 1000.0);
       ready_seen_ns_ = now;
     }
@@ -157,13 +162,17 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes) {
     const auto result = req.request(dds::RequestOptions{i == 0 ? 10000ms : 2000ms}).get();
     const auto both_ready =
         result.outcome == dds::Outcome::Completed ? probe.wait_both_ready(5000ms) : std::int64_t{0};
-    if (i < warmup) continue;
+    if (i < warmup) {
+      continue;
+    }
     if (both_ready == 0) {
       ++run.handshake.timeouts;
       continue;
     }
     run.handshake.samples_us.push_back(static_cast<double>(both_ready - t0) / 1000.0);
-    for (double v : probe.take_transitions()) run.transition.samples_us.push_back(v);
+    for (double v : probe.take_transitions()) {
+      run.transition.samples_us.push_back(v);
+    }
   }
   return run;
 }
@@ -176,7 +185,9 @@ pid_t spawn_peer(int domain, qos::Transport t) {
   const std::string dom = std::to_string(domain);
   const char* transport = t == qos::Transport::LoopbackUdp ? "udp" : "shm";
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid < 0) {
+    throw std::runtime_error("fork failed");
+  }
   if (pid == 0) {
     execl("/proc/self/exe", "mtc-bench-dds-latency", "--equipment-peer", "--transport", transport,
           "--domain", dom.c_str(), static_cast<char*>(nullptr));

@@ -56,7 +56,9 @@ void usage() {
 bool parse_int(const char* text, int& out) {
   char* end = nullptr;
   const long v = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || v < 0 || v > 10000000) return false;
+  if (end == text || *end != '\0' || v < 0 || v > 10000000) {
+    return false;
+  }
   out = static_cast<int>(v);
   return true;
 }
@@ -70,20 +72,32 @@ bool parse_args(int argc, char** argv, Options& o) {
     } else if (a == "--equipment-peer") {
       o.equipment_peer = true;
     } else if (a == "--samples" && has_value) {
-      if (!parse_int(argv[++i], o.samples) || o.samples == 0) return false;
+      if (!parse_int(argv[++i], o.samples) || o.samples == 0) {
+        return false;
+      }
     } else if (a == "--warmup" && has_value) {
-      if (!parse_int(argv[++i], o.warmup)) return false;
+      if (!parse_int(argv[++i], o.warmup)) {
+        return false;
+      }
     } else if (a == "--handshakes" && has_value) {
-      if (!parse_int(argv[++i], o.handshakes) || o.handshakes == 0) return false;
+      if (!parse_int(argv[++i], o.handshakes) || o.handshakes == 0) {
+        return false;
+      }
     } else if (a == "--domain" && has_value) {
-      if (!parse_int(argv[++i], o.domain) || o.domain > 232) return false;
+      if (!parse_int(argv[++i], o.domain) || o.domain > 232) {
+        return false;
+      }
     } else if (a == "--transport" && has_value) {
-      if (!mtc::bench::parse_transport(argv[++i], o.transport)) return false;
+      if (!mtc::bench::parse_transport(argv[++i], o.transport)) {
+        return false;
+      }
     } else if (a == "--out" && has_value) {
       o.out = argv[++i];
     } else if (a == "--only" && has_value) {
       const std::string what = argv[++i];
-      if (what != "raw" && what != "equipment") return false;
+      if (what != "raw" && what != "equipment") {
+        return false;
+      }
       o.raw = what == "raw";
       o.equipment = what == "equipment";
     } else {
@@ -116,7 +130,9 @@ pid_t spawn_peer(Transport t, int domain) {
   const std::string transport = mtc::bench::to_string(t);
   const std::string dom = std::to_string(domain);
   const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid < 0) {
+    throw std::runtime_error("fork failed");
+  }
   if (pid == 0) {
     execl("/proc/self/exe", "mtc-bench-dds-latency", "--peer", "--transport", transport.c_str(),
           "--domain", dom.c_str(), static_cast<char*>(nullptr));
@@ -197,7 +213,9 @@ int run(const Options& o) {
     mtc::bench::EquipmentBenchOptions eo;
     eo.first_domain_id = 104;  // 104-107
     eo.handshakes = o.handshakes;
-    for (auto& s : mtc::bench::run_equipment_series(eo)) all.push_back(std::move(s));
+    for (auto& s : mtc::bench::run_equipment_series(eo)) {
+      all.push_back(std::move(s));
+    }
   }
   const std::string json = to_json(o, all);
   std::cout << json;

@@ -29,7 +29,9 @@ constexpr const char* kPingTopic = "mtc_bench_ping";
 constexpr const char* kPongTopic = "mtc_bench_pong";
 
 void check(bool ok, const char* what) {
-  if (!ok) throw std::runtime_error(std::string("fast dds: cannot create ") + what);
+  if (!ok) {
+    throw std::runtime_error(std::string("fast dds: cannot create ") + what);
+  }
 }
 
 void check_rc(ReturnCode_t rc, const char* what) {
@@ -105,13 +107,17 @@ class Endpoint {
   bool take(mtc::idl::InteractionSample& sample) {
     fdds::SampleInfo info;
     while (reader_->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
-      if (info.valid_data) return true;
+      if (info.valid_data) {
+        return true;
+      }
     }
     return false;
   }
 
   void write(mtc::idl::InteractionSample& sample) {
-    if (!writer_->write(&sample)) throw std::runtime_error("fast dds: write failed");
+    if (!writer_->write(&sample)) {
+      throw std::runtime_error("fast dds: write failed");
+    }
   }
 
   bool matched() const {
@@ -163,7 +169,9 @@ void run_ponger(const PingPongOptions& options, const std::atomic<bool>& stop) {
   Endpoint ep(options, "mtc_bench_ponger", kPongTopic, kPingTopic);
   mtc::idl::InteractionSample sample;
   while (!stop.load()) {
-    if (!ep.wait_data(std::chrono::milliseconds(100))) continue;
+    if (!ep.wait_data(std::chrono::milliseconds(100))) {
+      continue;
+    }
     while (ep.take(sample)) {
       sample.device_uuid("bench-pong");
       ep.write(sample);
@@ -192,18 +200,24 @@ Series run_pinger(const PingPongOptions& options, std::chrono::milliseconds matc
   mtc::idl::InteractionSample echo;
   const int total = options.warmup + options.samples;
   for (int i = 0; i < total; ++i) {
-    const auto seq = static_cast<unsigned long long>(i + 1);
+    const auto seq = static_cast<unsigned long long>(i) + 1;
     ping.sequence_number(seq);
     const auto t0 = std::chrono::steady_clock::now();
     ep.write(ping);
     bool answered = false;
     const auto deadline = t0 + options.reply_timeout;
     while (!answered && std::chrono::steady_clock::now() < deadline) {
-      if (!ep.wait_data(options.reply_timeout)) break;
-      while (ep.take(echo)) answered = answered || echo.sequence_number() == seq;
+      if (!ep.wait_data(options.reply_timeout)) {
+        break;
+      }
+      while (ep.take(echo)) {
+        answered = answered || echo.sequence_number() == seq;
+      }
     }
     const auto t1 = std::chrono::steady_clock::now();
-    if (i < options.warmup) continue;
+    if (i < options.warmup) {
+      continue;
+    }
     if (answered) {
       series.samples_us.push_back(to_us(t1 - t0));
     } else {
