@@ -110,6 +110,8 @@ void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
   e.service = *v.service;
   e.state = core::parse_interaction_state(v.value).value_or(core::InteractionState::Unavailable);
   e.source_time_ns = v.source_time_ns;
+  e.sequence_number = v.sequence_number;
+  e.heartbeat_count = v.heartbeat_count;
   e.reception_time_ns = v.reception_time_ns;
   events.push(std::move(e));
 }
