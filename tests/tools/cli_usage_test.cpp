@@ -118,5 +118,28 @@ TEST(CliUsage, RespondRejectsBadFailureInjection) {
   EXPECT_NE(r.err.find("--fail-rate expects a number in [0, 1]"), std::string::npos) << r.err;
 }
 
+TEST(CliUsage, BadTransportAndProfileForRequestExit2) {
+  MtcRun r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service",
+                      "MATERIAL_LOAD", "--counterpart", "machine-1", "--transport", "pigeon"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--transport expects loopback, loopback-udp or builtin"), std::string::npos)
+      << r.err;
+  r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
+               "--counterpart", "machine-1", "--qos-profile", "mtc.device_description"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("'mtc.state' only"), std::string::npos) << r.err;
+}
+
+TEST(CliUsage, InvalidDeviceOrInterfaceIdExits2WithTheRule) {
+  // Rejected by the runtime's validation before anything touches the network.
+  MtcRun r = run_mtc({"request", "--device", "robot 1", "--interface", "mh", "--service",
+                      "MATERIAL_LOAD", "--counterpart", "machine-1"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("may only contain"), std::string::npos) << r.err;
+  r = run_mtc({"respond", "--device", "m", "--interface", "1mh", "--service", "MATERIAL_LOAD"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("must not start with a digit"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace mtc::test
