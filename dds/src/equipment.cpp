@@ -166,6 +166,13 @@ void Equipment::add_interface(InterfaceConfig config) {
       throw ConfigError("interface " + config.id + " cannot pair with its own device");
     }
   }
+  if (config.timing) {
+    try {
+      qos::validate(*config.timing);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError("interface " + config.id + ": " + e.what());
+    }
+  }
   if (config.name.empty()) config.name = config.id;
   auto itf = std::make_unique<InterfaceSlot>();
   itf->door = config.initial_door_state;

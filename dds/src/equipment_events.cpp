@@ -8,22 +8,30 @@ namespace mtc::dds {
 
 using detail::TopicKind;
 
-void EquipmentImpl::on_event(detail::TapEvent& event) {
+void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
   std::visit(
-      [this](auto& e) {
+      [this, group](auto& e) {
         using T = std::decay_t<decltype(e)>;
         if constexpr (std::is_same_v<T, detail::ValueEvent>) {
-          on_value(e);
+          on_value(group, e);
         } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
           on_device(e);
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
-          on_gone(e.topic, e.instance, "disposed or no writers", false);
+          on_gone(group, e.topic, e.instance, "disposed or no writers", false);
         } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
-          if (!e.alive && e.unmatched) on_writer_lost(e.writer, "writer unmatched", false);
-          if (!e.alive && !e.unmatched) on_writer_lost(e.writer, "writer liveliness lost", true);
+          if (!e.alive && e.unmatched) on_writer_lost(group, e.writer, "writer unmatched", false);
+          if (!e.alive && !e.unmatched) {
+            on_writer_lost(group, e.writer, "writer liveliness lost", true);
+          }
         } else if constexpr (std::is_same_v<T, detail::DeadlineMissedEvent>) {
-          on_gone(e.topic, e.instance, "deadline missed", true);
+          on_gone(group, e.topic, e.instance, "deadline missed", true);
         } else {
+          // Once per topic and group: with several timings, a fast group's
+          // readers never match a slow group's writers, by design.
+          auto& reported =
+              groups[group]->incompatible_reported[static_cast<std::size_t>(e.topic)];
+          if (reported) return;
+          reported = true;
           diagnostic(std::string("a peer's writer on ") + detail::topic_name(e.topic) +
                      " offers incompatible QoS (policy id " + e.policy +
                      "); check its heartbeat/lease against ours");
@@ -80,6 +88,7 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
   instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "",
                                                                topics::realtime_ns()};
   writer_last_ns[e.writer] = topics::realtime_ns();
+  description_writers.insert(e.writer);
   for (auto& itf : interfaces) {
     if (itf->link.load() != LinkState::Unpaired) continue;
     const auto& spec = itf->config.counterpart;
@@ -94,13 +103,14 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
   }
 }
 
-void EquipmentImpl::on_value(detail::ValueEvent& e) {
+void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   auto& v = e.value;
   if (v.device_uuid == options.device_uuid) return;
   writer_device[e.writer] = v.device_uuid;
   instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id,
                                           v.reception_time_ns};
   writer_last_ns[e.writer] = v.reception_time_ns;
+  writer_interfaces[e.writer].insert(v.interface_id);
   // A change number that skips ahead means this writer changed something we
   // never saw (KEEP_LAST 1 replaced it before delivery, e.g. after a loss).
   auto& last = writer_seq[e.writer];
@@ -109,6 +119,8 @@ void EquipmentImpl::on_value(detail::ValueEvent& e) {
   last = std::max(last, v.sequence_number);
 
   for (auto& itf : interfaces) {
+    // Each timing group's readers feed only that group's interfaces.
+    if (itf->group != group) continue;
     // A configured counterpart device with unknown interface id pairs on
     // its first interaction value for one of our services.
     const auto& spec = itf->config.counterpart;
@@ -177,9 +189,10 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
 // lease is not a loss: Fast DDS 2.9 occasionally raises a deadline miss for
 // an instance right after its first samples. A real loss always comes after
 // about a lease of silence.
-bool EquipmentImpl::recently_heard(std::int64_t last_ns, const std::string& what) {
+bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
+                                   const std::string& what) {
   const auto silence = std::chrono::nanoseconds(topics::realtime_ns() - last_ns);
-  if (last_ns != 0 && silence < options.timing.lease() / 2) {
+  if (last_ns != 0 && silence < groups[group]->timing.lease() / 2) {
     diagnostic("ignored " + what + " after only " +
                std::to_string(silence.count() / 1000000) + " ms of silence");
     return true;
@@ -187,16 +200,19 @@ bool EquipmentImpl::recently_heard(std::int64_t last_ns, const std::string& what
   return false;
 }
 
-void EquipmentImpl::on_gone(TopicKind topic, const detail::Handle& instance, const char* cause,
-                            bool check_silence) {
+void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Handle& instance,
+                            const char* cause, bool check_silence) {
   const auto it = instance_item.find({topic, instance});
   if (it == instance_item.end()) return;
   const auto& owner = it->second;
-  if (check_silence && recently_heard(owner.last_ns, std::string(cause) + " of " + owner.item)) {
+  if (check_silence &&
+      recently_heard(group, owner.last_ns, std::string(cause) + " of " + owner.item)) {
     return;
   }
   for (auto& itf : interfaces) {
     if (itf->cp_uuid != owner.device) continue;
+    // A device announcement concerns every interface; items only their group.
+    if (topic != TopicKind::DeviceDescription && itf->group != group) continue;
     if (topic == TopicKind::DeviceDescription) {
       link_lost(*itf, std::string("device announcement ") + cause);
     } else if (owner.interface_id == itf->cp_interface) {
@@ -205,16 +221,24 @@ void EquipmentImpl::on_gone(TopicKind topic, const detail::Handle& instance, con
   }
 }
 
-void EquipmentImpl::on_writer_lost(const detail::Handle& writer, const char* cause,
-                                   bool check_silence) {
+void EquipmentImpl::on_writer_lost(std::size_t group, const detail::Handle& writer,
+                                   const char* cause, bool check_silence) {
   const auto it = writer_device.find(writer);
   if (it == writer_device.end()) return;
-  if (check_silence && recently_heard(writer_last_ns[writer], std::string(cause) + " of " +
-                                                                  it->second)) {
+  if (check_silence &&
+      recently_heard(group, writer_last_ns[writer], std::string(cause) + " of " + it->second)) {
     return;
   }
+  // The announcement writer stands for the whole device when it goes away;
+  // its lease (the equipment's timing) is not used for loss: each interface's
+  // items detect that with their own timing. An item writer stands for the
+  // interfaces whose items it carried.
+  const bool whole_device = description_writers.count(writer) != 0;
+  if (whole_device && check_silence) return;
+  const auto& fed = writer_interfaces[writer];
   for (auto& itf : interfaces) {
-    if (itf->cp_uuid == it->second) link_lost(*itf, cause);
+    if (itf->cp_uuid != it->second) continue;
+    if (whole_device || fed.count(itf->cp_interface) != 0) link_lost(*itf, cause);
   }
 }
 

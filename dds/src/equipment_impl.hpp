@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -53,8 +54,29 @@ struct ServiceSlot {
   std::atomic<core::InteractionState> snap_counterpart{core::InteractionState::Unavailable};
 };
 
+// Writers, readers and heartbeat schedule of the interfaces sharing one
+// timing (DEADLINE and liveliness are writer/reader QoS, so interfaces with
+// their own heartbeat get their own endpoints). Group 0 is the equipment's.
+struct TimingGroup {
+  qos::Timing timing;
+  std::unique_ptr<Writer<idl::InteractionSample>> request_writer;
+  std::unique_ptr<Writer<idl::InteractionSample>> response_writer;
+  std::unique_ptr<Writer<idl::InterfaceStateSample>> interface_writer;
+  std::unique_ptr<Writer<idl::DoorStateSample>> door_writer;
+  std::unique_ptr<Writer<idl::ChuckStateSample>> chuck_writer;
+  std::uint64_t request_seq = 0;
+  std::uint64_t response_seq = 0;
+  std::uint64_t interface_seq = 0;
+  std::uint64_t door_seq = 0;
+  std::uint64_t chuck_seq = 0;
+  SteadyClock::time_point next_heartbeat{};
+  std::unique_ptr<detail::DomainTap> tap;
+  std::array<bool, detail::kTopicKindCount> incompatible_reported{};
+};
+
 struct InterfaceSlot {
   InterfaceConfig config;
+  std::size_t group = 0;  // index into EquipmentImpl::groups
   core::DoorChuckPreconditions hook;
   std::unique_ptr<core::InterfaceModel> model;
   std::vector<std::size_t> services;  // indices into EquipmentImpl::slots
@@ -78,14 +100,7 @@ struct EquipmentImpl {
   std::atomic<bool> started{false};
   mutable std::mutex binding_mutex;  // guards cp_uuid / cp_interface for readers
 
-  // Writer bookkeeping: per-writer change counters (IDL sequence_number).
-  std::uint64_t request_seq = 0;
-  std::uint64_t response_seq = 0;
-  std::uint64_t interface_seq = 0;
-  std::uint64_t door_seq = 0;
-  std::uint64_t chuck_seq = 0;
   std::uint64_t description_seq = 0;
-  SteadyClock::time_point next_heartbeat{};
 
   // Which counterpart writer / instance belongs to which device and item.
   std::map<detail::Handle, std::string> writer_device;
@@ -96,6 +111,8 @@ struct EquipmentImpl {
     std::int64_t last_ns = 0;  // last reception of this instance
   };
   std::map<detail::Handle, std::int64_t> writer_last_ns;  // last reception per writer
+  std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
+  std::set<detail::Handle> description_writers;
   std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
   std::map<detail::Handle, std::uint64_t> writer_seq;  // last change number per writer
 
@@ -106,19 +123,16 @@ struct EquipmentImpl {
   std::unique_ptr<Publisher> publisher;
   struct QuietWriterListener : fdds::DataWriterListener {};
   QuietWriterListener writer_listener;
-  std::unique_ptr<Writer<idl::InteractionSample>> request_writer;
-  std::unique_ptr<Writer<idl::InteractionSample>> response_writer;
-  std::unique_ptr<Writer<idl::InterfaceStateSample>> interface_writer;
-  std::unique_ptr<Writer<idl::DoorStateSample>> door_writer;
-  std::unique_ptr<Writer<idl::ChuckStateSample>> chuck_writer;
   std::unique_ptr<Writer<idl::DeviceDescription>> description_writer;
-  std::unique_ptr<detail::DomainTap> tap;
+  std::vector<std::unique_ptr<TimingGroup>> groups;
 
   // --- lifecycle (equipment.cpp) ---
   InterfaceSlot& interface_slot(const std::string& id) const;
   std::size_t add_slot(const std::string& interface_id, core::Service service, core::Role role,
                        const ServiceOptions& options);
   void create_entities();
+  void create_group(std::size_t index);
+  TimingGroup& group_of(const InterfaceSlot& itf) const { return *groups[itf.group]; }
   void shutdown() noexcept;
   template <typename R, typename Fn>
   std::future<R> run(Fn fn);
@@ -146,15 +160,16 @@ struct EquipmentImpl {
   ServiceSlot* slot_for(InterfaceSlot& itf, core::Service service, core::Role role) const;
 
   // --- DDS events (equipment_events.cpp) ---
-  void on_event(detail::TapEvent& event);
-  void on_value(detail::ValueEvent& e);
+  void on_event(std::size_t group, detail::TapEvent& event);
+  void on_value(std::size_t group, detail::ValueEvent& e);
   void feed_counterpart(ServiceSlot& slot, const ObservedValue& v, bool missed_change);
   void bind_configured();
   void on_device(detail::DeviceEvent& e);
-  void on_gone(detail::TopicKind topic, const detail::Handle& instance, const char* cause,
-               bool check_silence);
-  void on_writer_lost(const detail::Handle& writer, const char* cause, bool check_silence);
-  bool recently_heard(std::int64_t last_ns, const std::string& what);
+  void on_gone(std::size_t group, detail::TopicKind topic, const detail::Handle& instance,
+               const char* cause, bool check_silence);
+  void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
+                      bool check_silence);
+  bool recently_heard(std::size_t group, std::int64_t last_ns, const std::string& what);
   void link_lost(InterfaceSlot& itf, const std::string& cause);
   void link_up(InterfaceSlot& itf, const char* cause);
   void set_link(InterfaceSlot& itf, LinkState next, const std::string& cause);

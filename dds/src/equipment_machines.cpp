@@ -156,7 +156,8 @@ void EquipmentImpl::try_issue(ServiceSlot& slot, SteadyClock::time_point now) {
 }
 
 SteadyClock::time_point EquipmentImpl::next_wake() const {
-  auto wake = next_heartbeat;
+  auto wake = SteadyClock::time_point::max();
+  for (const auto& g : groups) wake = std::min(wake, g->next_heartbeat);
   for (const auto& itf : interfaces) wake = std::min(wake, itf->model->next_deadline());
   for (const auto& s : slots) {
     if (s->pending && !s->pending->issued) wake = std::min(wake, s->pending->ready_deadline);
@@ -165,7 +166,7 @@ SteadyClock::time_point EquipmentImpl::next_wake() const {
 }
 
 void EquipmentImpl::on_wake(SteadyClock::time_point now) {
-  if (now >= next_heartbeat) heartbeat(now);
+  heartbeat(now);  // the groups whose period is due
   for (auto& itf : interfaces) {
     // At most one limit per machine per on_tick; bounded loop for safety.
     for (int i = 0; i < 32 && itf->model->next_deadline() <= now; ++i) {

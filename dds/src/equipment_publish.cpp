@@ -10,13 +10,6 @@ namespace mtc::dds {
 
 namespace {
 
-bool has_role(const EquipmentImpl& impl, core::Role role) {
-  for (const auto& s : impl.slots) {
-    if (s->role == role) return true;
-  }
-  return false;
-}
-
 // Readers: the counterparts' partitions when all are known up front,
 // otherwise every device's partition (discovery).
 std::vector<std::string> reader_partitions(const EquipmentImpl& impl) {
@@ -53,6 +46,51 @@ void touch(PublishedItem& item, std::uint64_t& writer_seq, bool heartbeat, std::
 
 }  // namespace
 
+namespace {
+
+bool same_timing(const qos::Timing& a, const qos::Timing& b) {
+  return a.heartbeat == b.heartbeat && a.missed_heartbeats == b.missed_heartbeats &&
+         a.reliable_heartbeat == b.reliable_heartbeat;
+}
+
+}  // namespace
+
+// Writers of one timing group: only those its interfaces need, so that a
+// device that only requests holds no permission-relevant response writer.
+void EquipmentImpl::create_group(std::size_t index) {
+  auto& g = *groups[index];
+  const auto wq = qos::state_topic(g.timing).writer_qos();
+  bool request = false, response = false, door = false, chuck = false;
+  for (const auto& itf : interfaces) {
+    if (itf->group != index) continue;
+    door = door || itf->config.publishes_door_state;
+    chuck = chuck || itf->config.publishes_chuck_state;
+    for (auto i : itf->services) {
+      request = request || slots[i]->role == core::Role::Requester;
+      response = response || slots[i]->role == core::Role::Responder;
+    }
+  }
+  using detail::TopicKind;
+  if (request) {
+    g.request_writer = std::make_unique<Writer<idl::InteractionSample>>(
+        *publisher, topics->get(TopicKind::Request), wq, writer_listener);
+  }
+  if (response) {
+    g.response_writer = std::make_unique<Writer<idl::InteractionSample>>(
+        *publisher, topics->get(TopicKind::Response), wq, writer_listener);
+  }
+  g.interface_writer = std::make_unique<Writer<idl::InterfaceStateSample>>(
+      *publisher, topics->get(TopicKind::InterfaceState), wq, writer_listener);
+  if (door) {
+    g.door_writer = std::make_unique<Writer<idl::DoorStateSample>>(
+        *publisher, topics->get(TopicKind::DoorState), wq, writer_listener);
+  }
+  if (chuck) {
+    g.chuck_writer = std::make_unique<Writer<idl::ChuckStateSample>>(
+        *publisher, topics->get(TopicKind::ChuckState), wq, writer_listener);
+  }
+}
+
 void EquipmentImpl::create_entities() {
   const auto& t = options.timing;
   qos::ParticipantConfig pc;
@@ -64,34 +102,22 @@ void EquipmentImpl::create_entities() {
   topics = std::make_unique<detail::TopicSet>(*participant, t);
   publisher = std::make_unique<Publisher>(
       *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});
-  const auto state_qos = qos::state_topic(t).writer_qos();
-  using detail::TopicKind;
-  if (has_role(*this, core::Role::Requester)) {
-    request_writer = std::make_unique<Writer<idl::InteractionSample>>(
-        *publisher, topics->get(TopicKind::Request), state_qos, writer_listener);
+  // Group interfaces by timing; group 0 is the equipment's own.
+  groups.push_back(std::make_unique<TimingGroup>());
+  groups[0]->timing = t;
+  for (auto& itf : interfaces) {
+    const auto timing = itf->config.timing.value_or(t);
+    std::size_t g = 0;
+    while (g < groups.size() && !same_timing(groups[g]->timing, timing)) ++g;
+    if (g == groups.size()) {
+      groups.push_back(std::make_unique<TimingGroup>());
+      groups[g]->timing = timing;
+    }
+    itf->group = g;
   }
-  if (has_role(*this, core::Role::Responder)) {
-    response_writer = std::make_unique<Writer<idl::InteractionSample>>(
-        *publisher, topics->get(TopicKind::Response), state_qos, writer_listener);
-  }
-  interface_writer = std::make_unique<Writer<idl::InterfaceStateSample>>(
-      *publisher, topics->get(TopicKind::InterfaceState), state_qos, writer_listener);
-  bool door = false;
-  bool chuck = false;
-  for (const auto& itf : interfaces) {
-    door = door || itf->config.publishes_door_state;
-    chuck = chuck || itf->config.publishes_chuck_state;
-  }
-  if (door) {
-    door_writer = std::make_unique<Writer<idl::DoorStateSample>>(
-        *publisher, topics->get(TopicKind::DoorState), state_qos, writer_listener);
-  }
-  if (chuck) {
-    chuck_writer = std::make_unique<Writer<idl::ChuckStateSample>>(
-        *publisher, topics->get(TopicKind::ChuckState), state_qos, writer_listener);
-  }
+  for (std::size_t g = 0; g < groups.size(); ++g) create_group(g);
   description_writer = std::make_unique<Writer<idl::DeviceDescription>>(
-      *publisher, topics->get(TopicKind::DeviceDescription),
+      *publisher, topics->get(detail::TopicKind::DeviceDescription),
       qos::device_description_topic(t).writer_qos(), writer_listener);
 
   // Machines, initial states, announcement; then readers and the executor.
@@ -120,34 +146,32 @@ void EquipmentImpl::create_entities() {
     if (itf->config.publishes_chuck_state) publish_chuck(*itf, false, now_ns);
   }
   publish_description();
-  next_heartbeat = now + t.heartbeat;
+  for (auto& g : groups) g->next_heartbeat = now + g->timing.heartbeat;
 
   executor.start([this] { return next_wake(); }, [this](SteadyClock::time_point n) { on_wake(n); });
   // Pairing callbacks run on the executor like every other callback.
   executor.post([this] { bind_configured(); });
-  detail::TapConfig tc;
-  tc.partitions = reader_partitions(*this);
-  tc.timing = t;
-  tc.request_deadline = true;
-  tap = std::make_unique<detail::DomainTap>(*participant, *topics, tc,
-                                            [this](detail::TapEvent&& event) {
-                                              executor.post([this, ev = std::move(event)]() mutable {
-                                                on_event(ev);
-                                              });
-                                            });
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    detail::TapConfig tc;
+    tc.partitions = reader_partitions(*this);
+    tc.timing = groups[g]->timing;
+    tc.request_deadline = true;
+    // Announcements are read once, with the equipment's timing.
+    tc.topics[static_cast<std::size_t>(detail::TopicKind::DeviceDescription)] = g == 0;
+    groups[g]->tap = std::make_unique<detail::DomainTap>(
+        *participant, *topics, tc, [this, g](detail::TapEvent&& event) {
+          executor.post([this, g, ev = std::move(event)]() mutable { on_event(g, ev); });
+        });
+  }
 }
 
 void EquipmentImpl::shutdown() noexcept {
   // Stop the executor first: nothing touches the writers concurrently after.
   executor.stop();
   if (started) dispose_all();
-  tap.reset();
+  for (auto& g : groups) g->tap.reset();
   description_writer.reset();
-  chuck_writer.reset();
-  door_writer.reset();
-  interface_writer.reset();
-  response_writer.reset();
-  request_writer.reset();
+  groups.clear();  // writers before their publisher
   publisher.reset();
   topics.reset();
   participant.reset();
@@ -155,9 +179,10 @@ void EquipmentImpl::shutdown() noexcept {
 
 void EquipmentImpl::publish_interaction(ServiceSlot& slot, bool heartbeat, std::int64_t now_ns) {
   const bool request = slot.role == core::Role::Requester;
-  auto& writer = request ? request_writer : response_writer;
-  auto& seq = request ? request_seq : response_seq;
   auto& itf = *interfaces[slot.interface_index];
+  auto& g = group_of(itf);
+  auto& writer = request ? g.request_writer : g.response_writer;
+  auto& seq = request ? g.request_seq : g.response_seq;
   touch(slot.item, seq, heartbeat, now_ns);
   idl::InteractionSample s;
   fill_common(s, options.device_uuid, itf.config.id, slot.item, seq);
@@ -169,27 +194,30 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, bool heartbeat, std::
 
 void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, bool heartbeat,
                                             std::int64_t now_ns) {
-  touch(itf.state_item, interface_seq, heartbeat, now_ns);
+  auto& g = group_of(itf);
+  touch(itf.state_item, g.interface_seq, heartbeat, now_ns);
   idl::InterfaceStateSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.state_item, interface_seq);
+  fill_common(s, options.device_uuid, itf.config.id, itf.state_item, g.interface_seq);
   s.state(topics::to_idl(itf.model->interface_state()));
-  interface_writer->write(s);
+  g.interface_writer->write(s);
 }
 
 void EquipmentImpl::publish_door(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
-  touch(itf.door_item, door_seq, heartbeat, now_ns);
+  auto& g = group_of(itf);
+  touch(itf.door_item, g.door_seq, heartbeat, now_ns);
   idl::DoorStateSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.door_item, door_seq);
+  fill_common(s, options.device_uuid, itf.config.id, itf.door_item, g.door_seq);
   s.state(topics::to_idl(itf.door));
-  door_writer->write(s);
+  g.door_writer->write(s);
 }
 
 void EquipmentImpl::publish_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
-  touch(itf.chuck_item, chuck_seq, heartbeat, now_ns);
+  auto& g = group_of(itf);
+  touch(itf.chuck_item, g.chuck_seq, heartbeat, now_ns);
   idl::ChuckStateSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.chuck_item, chuck_seq);
+  fill_common(s, options.device_uuid, itf.config.id, itf.chuck_item, g.chuck_seq);
   s.state(topics::to_idl(itf.chuck));
-  chuck_writer->write(s);
+  g.chuck_writer->write(s);
 }
 
 namespace {
@@ -235,19 +263,25 @@ void EquipmentImpl::publish_description() {
   description_writer->write(d);
 }
 
-// Re-publishes every item unchanged (keeps the peers' DEADLINE satisfied and
-// asserts MANUAL_BY_TOPIC liveliness of each writer).
+// Re-publishes every item of each group whose heartbeat is due, unchanged
+// (keeps the peers' DEADLINE satisfied and asserts MANUAL_BY_TOPIC liveliness
+// of each writer); group 0 also asserts the announcement's liveliness.
 void EquipmentImpl::heartbeat(SteadyClock::time_point now) {
   const auto now_ns = topics::realtime_ns();
-  for (auto& itf : interfaces) {
-    for (auto index : itf->services) publish_interaction(*slots[index], true, now_ns);
-    publish_interface_state(*itf, true, now_ns);
-    if (itf->config.publishes_door_state) publish_door(*itf, true, now_ns);
-    if (itf->config.publishes_chuck_state) publish_chuck(*itf, true, now_ns);
+  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
+    auto& g = *groups[gi];
+    if (now < g.next_heartbeat) continue;
+    for (auto& itf : interfaces) {
+      if (itf->group != gi) continue;
+      for (auto index : itf->services) publish_interaction(*slots[index], true, now_ns);
+      publish_interface_state(*itf, true, now_ns);
+      if (itf->config.publishes_door_state) publish_door(*itf, true, now_ns);
+      if (itf->config.publishes_chuck_state) publish_chuck(*itf, true, now_ns);
+    }
+    if (gi == 0) description_writer->assert_liveliness();
+    g.next_heartbeat += g.timing.heartbeat;
+    if (g.next_heartbeat <= now) g.next_heartbeat = now + g.timing.heartbeat;
   }
-  description_writer->assert_liveliness();
-  next_heartbeat += options.timing.heartbeat;
-  if (next_heartbeat <= now) next_heartbeat = now + options.timing.heartbeat;
 }
 
 // Graceful leave: disposing every instance lets peers see our items
@@ -267,11 +301,12 @@ void EquipmentImpl::dispose_all() noexcept {
       const bool request = slot.role == core::Role::Requester;
       idl::InteractionSample s;
       fill_common(s, options.device_uuid, itf->config.id, slot.item, 0);
-      attempt([&] { (request ? request_writer : response_writer)->dispose(s); });
+      auto& g = group_of(*itf);
+      attempt([&] { (request ? g.request_writer : g.response_writer)->dispose(s); });
     }
     idl::InterfaceStateSample s;
     fill_common(s, options.device_uuid, itf->config.id, itf->state_item, 0);
-    attempt([&] { interface_writer->dispose(s); });
+    attempt([&] { group_of(*itf).interface_writer->dispose(s); });
   }
   idl::DeviceDescription d;
   d.device_uuid(options.device_uuid);

@@ -150,6 +150,59 @@ TEST_F(CommsLoss, LongOutageRediscoversAndRecovers) {
   EXPECT_EQ(req.request(wait).get().outcome, Outcome::Completed);
 }
 
+// Two interfaces with different heartbeats on the same pair of devices: a
+// cable pull is detected per interface, each within its own lease.
+TEST_F(CommsLoss, PerInterfaceTimingSetsEachDetectionTime) {
+  auto cut = std::make_shared<std::atomic<bool>>(false);
+  qos::Timing slow;
+  slow.heartbeat = 400ms;  // lease 1.2 s
+  Recorder cnc_rec;
+  Recorder robot_rec;
+  Equipment cnc(lossy(55, "cnc-t", cut), cnc_rec.callbacks());
+  Equipment robot(lossy(55, "robot-t", cut), robot_rec.callbacks());
+  InterfaceConfig fast_cnc{"fast", InterfaceType::MaterialHandler, "", {"robot-t", "fast"}};
+  InterfaceConfig slow_cnc{"slow", InterfaceType::BarFeeder, "", {"robot-t", "slow"}};
+  slow_cnc.timing = slow;
+  InterfaceConfig fast_robot{"fast", InterfaceType::MaterialHandler, "", {"cnc-t", "fast"}};
+  InterfaceConfig slow_robot{"slow", InterfaceType::BarFeeder, "", {"cnc-t", "slow"}};
+  slow_robot.timing = slow;
+  cnc.add_interface(fast_cnc);
+  cnc.add_interface(slow_cnc);
+  robot.add_interface(fast_robot);
+  robot.add_interface(slow_robot);
+  auto& load = cnc.add_requester("fast", core::Service::MaterialLoad);
+  auto& feed = cnc.add_requester("slow", core::Service::MaterialFeed);
+  ResponderCallbacks cb;
+  cb.on_request = [](Responder& r) { r.complete(); };
+  robot.add_responder("fast", core::Service::MaterialLoad, cb);
+  robot.add_responder("slow", core::Service::MaterialFeed, cb);
+  cnc.start();
+  robot.start();
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  EXPECT_EQ(load.request(wait).get().outcome, Outcome::Completed);
+  EXPECT_EQ(feed.request(wait).get().outcome, Outcome::Completed);
+  const auto start = std::chrono::steady_clock::now();
+  cut->store(true);
+  ASSERT_TRUE(cnc_rec.wait_link(cnc, "fast", LinkState::Lost));
+  const auto fast_ms = ms_since(start);
+  ASSERT_TRUE(cnc_rec.wait_link(cnc, "slow", LinkState::Lost));
+  const auto slow_ms = ms_since(start);
+  RecordProperty("fast_detection_ms", static_cast<int>(fast_ms));
+  RecordProperty("slow_detection_ms", static_cast<int>(slow_ms));
+  EXPECT_LT(fast_ms, 2000);
+  EXPECT_GT(slow_ms, fast_ms);
+  for (const auto& l : cnc_rec.links()) {
+    if (l.interface_id == "slow" && l.current == LinkState::Lost) {
+      EXPECT_GE(l.silence, 600ms) << "lost after " << l.silence.count() / 1000000 << " ms";
+    }
+  }
+  cut->store(false);
+  EXPECT_TRUE(cnc_rec.wait_state(load, InteractionState::Ready));
+  EXPECT_TRUE(cnc_rec.wait_state(feed, InteractionState::Ready));
+  EXPECT_EQ(feed.request(wait).get().outcome, Outcome::Completed);
+}
+
 // Outage while a request is ACTIVE: the request ends CommsLost, the
 // responder is told to abort, and both recover afterwards.
 TEST_F(CommsLoss, OutageDuringServiceAbortsBothSides) {

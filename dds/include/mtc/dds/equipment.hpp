@@ -99,6 +99,10 @@ struct InterfaceConfig {
   bool publishes_chuck_state = false;
   core::DoorState initial_door_state = core::DoorState::Unavailable;
   core::ChuckState initial_chuck_state = core::ChuckState::Unavailable;
+  // Heartbeat and lease of this interface's data items (DEADLINE and
+  // liveliness of its own writers and readers); default: the equipment's.
+  // The counterpart's interface must use the same (or a faster) timing.
+  std::optional<qos::Timing> timing{};
 };
 
 // Time limits an Equipment uses unless told otherwise: as core's defaults,
