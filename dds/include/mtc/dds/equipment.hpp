@@ -19,7 +19,10 @@
 // thread. Commands (request(), complete(), ...) may be called from any
 // thread, including from callbacks; they return futures that become ready
 // once the executor has applied them. Never block on such a future inside a
-// callback (the executor would wait for itself).
+// callback (the executor would wait for itself), never destroy the Equipment
+// from its own callback, and keep callbacks short: the heartbeat runs on the
+// same thread, so a callback that blocks for a lease looks like a hung
+// device to the peers (which is what it is).
 #pragma once
 
 #include <chrono>
