@@ -15,7 +15,12 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
-pidfile="$build/mtc-cell.netns.pid"  # a process inside the running cell's namespace
+# Where the running cell leaves its namespace's pid and its port for --query
+# and --enter (tests point MTC_CELL_STATE_DIR elsewhere so they never touch
+# the state of a cell a person is running from the same build).
+state="${MTC_CELL_STATE_DIR:-$build}"
+pidfile="$state/mtc-cell.netns.pid"  # a process inside the running cell's namespace
+port_file="$state/mtc-cell.port"
 domain=110                            # DDS domain of the cell (ids 100-119: cell and benchmarks)
 port=5000
 
@@ -49,7 +54,6 @@ case "${1:-}" in
   --query)
     path="${2:-/current}"
     case "$path" in /*) ;; *) path="/$path" ;; esac
-    port_file="$build/mtc-cell.port"
     [ -r "$port_file" ] && port="$(cat "$port_file")"
     in_cell_ns curl -sS --fail-with-body --max-time 10 "http://127.0.0.1:${port}${path}" ;;
   --enter)
@@ -101,11 +105,11 @@ cleanup() {
     kill -KILL "$bridge_pid" 2>/dev/null || true
     wait "$bridge_pid" 2>/dev/null || true
   fi
-  rm -f "$pidfile" "$build/mtc-cell.port"
+  rm -f "$pidfile" "$port_file"
 }
 trap cleanup EXIT
 echo $$ >"$pidfile"
-echo "$port" >"$build/mtc-cell.port"
+echo "$port" >"$port_file"
 
 if [ -x "$bridge" ]; then
   # Same heartbeat as the cell (mtc-cell defaults), so the bridge does not

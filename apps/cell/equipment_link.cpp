@@ -256,6 +256,10 @@ class EquipmentLink : public Link {
     }
     dds::ServiceOptions so;
     so.auto_accept = false;  // the stations accept (or fail at once: scenario 1)
+    // A FAIL the counterpart never acknowledges (it had already recovered,
+    // or it was lost meanwhile) may be cleared after 2 s instead of pinning
+    // this side in FAIL for good (core::TimeLimits::fail_ack).
+    so.limits.fail_ack = std::chrono::seconds(2);
     for (Service s : l.requests) {
       auto& r = equipment_->add_requester(interface_of(s), s, so);
       requests_.emplace(s, std::make_unique<DdsRequestPort>(r, shared_));

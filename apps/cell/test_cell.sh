@@ -83,7 +83,8 @@ case "$mode" in
     expect "all stations stopped, exit code 0" "every station stopped" ;;
   start)
     build="$2" domain="$3" port="$4"
-    MTC_BUILD_DIR="$build" "$root/scripts/start.sh" --no-build --domain "$domain" --port "$port" \
+    state="$(mktemp -d)"
+    MTC_BUILD_DIR="$build" MTC_CELL_STATE_DIR="$state" "$root/scripts/start.sh" --no-build --domain "$domain" --port "$port" \
       --pace-ms 10 >"$log" 2>&1 &
     pid=$!
     timeout 60 grep -m1 -q "cycle 1 complete" <(tail -n +1 -f "$log") ||
@@ -93,6 +94,8 @@ case "$mode" in
     kill -TERM "$pid"
     rc=0
     wait "$pid" || rc=$?
+    [ -e "$state/mtc-cell.netns.pid" ] && fail "start.sh left its pid file behind"
+    rmdir "$state"
     [ "$rc" = 0 ] || fail "start.sh exit code $rc after SIGTERM"
     for needle in 'uuid="cell-machine"' 'uuid="cell-robot"' 'uuid="cell-feeder"' \
                   '<MaterialLoad' '<OpenDoor' '<DoorState' '<ChuckState' '<MaterialFeed'; do
