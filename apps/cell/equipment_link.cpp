@@ -157,6 +157,11 @@ class DdsRequestPort : public RequestPort {
 
   bool recover(Millis timeout) override { return recover_handle(r_, shared_, timeout); }
 
+  std::string states() override {
+    return "request " + std::string(core::to_string(r_.state())) + ", response " +
+           std::string(core::to_string(r_.counterpart_state()));
+  }
+
  private:
   dds::Requester& r_;
   Shared& shared_;

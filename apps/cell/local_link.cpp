@@ -168,6 +168,12 @@ class LocalRequestPort : public RequestPort {
     bus_.command(w_, [&](core::TimePoint now) { return w_.req.fail(now); });
   }
 
+  std::string states() override {
+    std::lock_guard<std::mutex> lock(bus_.mutex);
+    return "request " + std::string(core::to_string(w_.req.state())) + ", response " +
+           std::string(core::to_string(w_.resp.state()));
+  }
+
   bool recover(Millis timeout) override {
     bus_.wait(timeout, [&] {
       return w_.req.state() != InteractionState::Fail || w_.req.fail_acknowledged();

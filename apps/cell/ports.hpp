@@ -10,6 +10,7 @@
 #include <initializer_list>
 #include <optional>
 #include <string>
+#include <string>
 
 #include "mtc/core/vocabulary.hpp"
 
@@ -41,6 +42,8 @@ class RequestPort {
   virtual void fail() = 0;
   // FAIL -> READY once the responder acknowledged with FAIL; true on READY.
   virtual bool recover(Millis timeout) = 0;
+  // "request READY, response FAIL": for the log when something is stuck.
+  virtual std::string states() = 0;
 };
 
 // The responding side of one service (a RESPONSE data item).

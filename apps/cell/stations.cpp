@@ -99,8 +99,8 @@ Outcome request_service(Ctx& c, Service s, const char* responder, const std::str
   if (!in_slices(
           c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); }, abandon)) {
     if (!c.stop.stopped() && !(abandon && abandon())) {
-      c.say(format("%s%s: could not raise the request (%s not READY)", indent.c_str(),
-                   name(s).c_str(), responder));
+      c.say(format("%s%s: could not raise the request (%s not READY: %s)", indent.c_str(),
+                   name(s).c_str(), responder, port.states().c_str()));
     }
     return Outcome::TimedOut;
   }
