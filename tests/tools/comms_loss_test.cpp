@@ -21,9 +21,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Lease is 3 x 100 ms heartbeat; 5 s only catches a detection that does not work.
+// Lease 5 x 100 ms heartbeat; 5 s only catches a detection that does not work.
 constexpr milliseconds kDetectionBound{5000};
-const std::vector<std::string> kUdp = {"--transport", "loopback-udp"};
+const std::vector<std::string> kUdp = {"--transport", "loopback-udp", "--missed-heartbeats", "5"};
 
 std::vector<std::string> with_udp(std::vector<std::string> args) {
   args.insert(args.end(), kUdp.begin(), kUdp.end());

@@ -28,11 +28,20 @@ namespace mtc::test {
 inline constexpr milliseconds kStartTimeout{20000};
 inline constexpr milliseconds kHandshakeTimeout{30000};
 
-// Argument list for `mtc <command> --domain <domain> --json <args...>`.
+// Lease of the tests that are not about detection time: 10 x 100 ms. On a
+// 2-core CI machine shared with other suites a 300 ms lease can expire on
+// scheduling delays alone; detection tests set their own (shorter) lease.
+inline constexpr const char* kDefaultMissedHeartbeats = "10";
+
+// Argument list for `mtc <command> --domain <domain> --json <args...>`, with
+// the default lease unless args set --missed-heartbeats.
 inline std::vector<std::string> mtc_argv(const std::string& command, int domain,
                                          std::vector<std::string> args) {
   std::vector<std::string> argv = {MTC_CLI_PATH, command, "--domain", std::to_string(domain),
                                    "--json"};
+  if (std::find(args.begin(), args.end(), "--missed-heartbeats") == args.end()) {
+    argv.insert(argv.end(), {"--missed-heartbeats", kDefaultMissedHeartbeats});
+  }
   argv.insert(argv.end(), args.begin(), args.end());
   return argv;
 }

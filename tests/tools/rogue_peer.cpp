@@ -16,6 +16,16 @@ namespace mtc::test {
 
 namespace fdds = eprosima::fastdds::dds;
 
+namespace {
+// The same lease as the `mtc` processes of the tests (mtc_fixture.hpp):
+// QoS only matches when both sides offer/request the same lease.
+qos::Timing rogue_timing() {
+  qos::Timing t;
+  t.missed_heartbeats = 10;
+  return t;
+}
+}  // namespace
+
 struct RoguePeer::Impl {
   struct Listener : fdds::DataWriterListener {};
 
@@ -71,7 +81,7 @@ struct RoguePeer::Impl {
 
 RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& interface_id,
                      core::Service service, core::SubType own_side, const std::string& counterpart)
-    : impl_(std::make_unique<Impl>(domain, device, qos::Timing{})) {
+    : impl_(std::make_unique<Impl>(domain, device, rogue_timing())) {
   auto& i = *impl_;
   fdds::TypeSupport type(new idl::InteractionSamplePubSubType());
   i.participant.register_type(type);
@@ -94,6 +104,8 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
   dds::DomainObserverOptions options;
   options.domain_id = domain;
   options.device_filter = {counterpart};
+  options.transport = qos::Transport::LoopbackUdp;
+  options.timing = i.timing;
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_value = [&i, service, wanted](const dds::ObservedValue& v) {
     if (v.service != service || v.sub_type != wanted) {

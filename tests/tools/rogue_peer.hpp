@@ -4,7 +4,8 @@
 // states, so the test process plays that peer itself: it publishes one
 // interaction data item exactly as the runtime would (same topics, partition,
 // keys and QoS, re-published every heartbeat) with whatever state the test
-// dictates, and watches its counterpart through a DomainObserver.
+// dictates, and watches its counterpart through a DomainObserver. Its lease
+// is 10 x 100 ms, the default of the `mtc` processes in these tests.
 #pragma once
 
 #include <chrono>

@@ -17,6 +17,7 @@ RespondConfig parse_respond(const ParsedArgs& args) {
     c.action = parse_action_ms(*a);
   }
   c.not_ready = args.has("not-ready");
+  c.equipment.stay_not_ready = c.not_ready;
   c.fail_plan = parse_fail_options(args, true);
   return c;
 }

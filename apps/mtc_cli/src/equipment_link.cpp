@@ -158,6 +158,7 @@ void EquipmentLink::Impl::declare() {
   dds::ServiceOptions options;
   options.limits.fail_ack = config.fail_ack_timeout;
   options.auto_accept = false;
+  options.start_ready = !config.stay_not_ready;
   for (auto s : config.services) {
     if (role == core::Role::Requester) {
       equipment->add_requester(config.interface_id, s, options);
@@ -192,7 +193,10 @@ EquipmentLink::EquipmentLink(const EquipmentConfig& config, core::Role role, Eve
   options.transport = to_transport(config);
   options.faults.drop_data_percent = static_cast<std::uint8_t>(config.drop_percent);
   // The tool has no partial actions to reset: clear every acknowledged FAIL.
-  options.recovery = dds::RecoveryPolicy::Always;
+  // A --not-ready responder clears FAIL itself, to NOT_READY (the runtime's
+  // automatic recovery would make it READY).
+  options.recovery =
+      config.stay_not_ready ? dds::RecoveryPolicy::Manual : dds::RecoveryPolicy::Always;
   impl_->equipment = std::make_unique<dds::Equipment>(options, impl_->callbacks());
   impl_->declare();
   impl_->equipment->start();
@@ -226,7 +230,9 @@ EquipmentLink::Refusal EquipmentLink::fail(core::Service s) {
   return refusal(impl_->handle(s).fail());
 }
 EquipmentLink::Refusal EquipmentLink::recover(core::Service s) {
-  return refusal(impl_->handle(s).recover());
+  return refusal(impl_->handle(s).recover(impl_->config.stay_not_ready
+                                              ? core::InteractionState::NotReady
+                                              : core::InteractionState::Ready));
 }
 EquipmentLink::Refusal EquipmentLink::set_ready(core::Service s, bool ready) {
   return refusal(impl_->handle(s).set_ready(ready));

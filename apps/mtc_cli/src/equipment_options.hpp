@@ -29,6 +29,8 @@ struct EquipmentConfig {
   int missed_heartbeats = 3;
   int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
   std::chrono::milliseconds fail_ack_timeout{2000};
+  // Responder --not-ready: start NOT_READY and clear every FAIL to NOT_READY.
+  bool stay_not_ready = false;
 };
 
 // add_*: declare the flags; parse_*: read them (UsageError on bad values).

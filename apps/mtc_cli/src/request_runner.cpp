@@ -147,9 +147,15 @@ void RequestRunner::try_recover() {
   link_.recover(service_);
 }
 
-bool RequestRunner::close_cycle(TimePoint deadline) {
+bool RequestRunner::close_cycle(TimePoint deadline, bool last) {
   LinkEvent e;
   while (!(idle(own_) && idle(peer_) && !peer_lost_)) {
+    // After the last outcome a vanished responder (e.g. `respond --count`
+    // exiting) leaves nothing to wait for.
+    if (peer_lost_ && last) {
+      trace_.note("closed", "responder gone after the last handshake");
+      return false;
+    }
     if (own_ == InteractionState::Fail) {
       try_recover();
     }
@@ -262,7 +268,7 @@ int RequestRunner::run() {
       break;
     }
     if (result != Result::CommsLost || more) {
-      close_cycle(Clock::now() + config_.timeout);
+      close_cycle(Clock::now() + config_.timeout, !more);
     }
     if (!more) {
       break;

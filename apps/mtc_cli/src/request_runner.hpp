@@ -39,7 +39,8 @@ class RequestRunner {
   Result wait_until_ready(TimePoint deadline);
   Result handshake(TimePoint deadline);
   void inject(const FailDecision& decision);
-  bool close_cycle(TimePoint deadline);
+  // Waits until both sides are idle again (recovering a FAIL on the way).
+  bool close_cycle(TimePoint deadline, bool last);
   void try_recover();
   void print_summary();
 
