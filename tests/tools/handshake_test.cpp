@@ -95,18 +95,23 @@ TEST(Handshake, NotReadyResponderIsReportedWithItsOwnExitCode) {
   auto responder =
       start_responder(kDomain, {"--device", "machine-1", "--interface", "cell", "--service",
                                 "MATERIAL_LOAD", "--counterpart", "robot-1", "--not-ready"});
-  auto requester = start_mtc("request", kDomain,
-                             {"--device", "robot-1", "--interface", "cell", "--service",
-                              "MATERIAL_LOAD", "--counterpart", "machine-1", "--timeout", "3s"});
-  ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 6) << requester->transcript();
-  const auto out = outcomes(*requester);
-  ASSERT_EQ(out.size(), 1u) << requester->transcript();
-  EXPECT_EQ(out[0].result, "NOT_READY");
-  // The request never went ACTIVE: Part 5 forbids requesting from a NOT_READY responder.
-  const auto steps = transitions(*requester, 1);
-  EXPECT_EQ(std::count(steps.begin(), steps.end(), "request:ACTIVE"), 0) << requester->transcript();
-  EXPECT_EQ(std::count(steps.begin(), steps.end(), "response:NOT_READY"), 1)
-      << requester->transcript();
+  // Twice: the first requester leaving is a comms loss for the responder
+  // (FAIL); recovering from it must bring it back to NOT_READY, not READY.
+  for (int round = 1; round <= 2; ++round) {
+    SCOPED_TRACE(round);
+    auto requester = start_mtc("request", kDomain,
+                               {"--device", "robot-1", "--interface", "cell", "--service",
+                                "MATERIAL_LOAD", "--counterpart", "machine-1", "--timeout", "4s"});
+    ASSERT_EQ(requester->wait_exit(kHandshakeTimeout), 6) << requester->transcript();
+    const auto out = outcomes(*requester);
+    ASSERT_EQ(out.size(), 1u) << requester->transcript();
+    EXPECT_EQ(out[0].result, "NOT_READY");
+    // The request never went ACTIVE: Part 5 forbids requesting from a NOT_READY responder.
+    const auto steps = transitions(*requester, 1);
+    EXPECT_EQ(std::count(steps.begin(), steps.end(), "request:ACTIVE"), 0)
+        << requester->transcript();
+    EXPECT_EQ(steps.back(), "response:NOT_READY") << requester->transcript();
+  }
 }
 
 TEST(Handshake, ResponderWithCountExitsAfterThatManyHandshakes) {
