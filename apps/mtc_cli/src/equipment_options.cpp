@@ -91,8 +91,10 @@ void add_observer_options(CommandSpec& spec) {
   spec.options.push_back(
       {"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin", "loopback"});
   spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of the watched devices", "100"});
-  spec.options.push_back(
-      {"missed-heartbeats", "N", "missed heartbeats before items read UNAVAILABLE", "3"});
+  spec.options.push_back({"missed-heartbeats", "N",
+                          "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
+                          "or their items do not match)",
+                          "3"});
 }
 
 ObserverSettings parse_observer_options(const ParsedArgs& args) {
