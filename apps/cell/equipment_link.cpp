@@ -107,6 +107,10 @@ class DdsRequestPort : public RequestPort {
   DdsRequestPort(dds::Requester& r, Shared& shared) : r_(r), shared_(shared) {}
 
   bool raise(Millis timeout) override {
+    // A FAIL left from a loss while idle is cleared first (nothing to reset).
+    if (r_.state() == InteractionState::Fail && !recover_handle(r_, shared_, timeout)) {
+      return false;
+    }
     result_.reset();
     pending_ = r_.request(dds::RequestOptions{timeout});
     // Issued once the request is ACTIVE; a refusal resolves the future.
@@ -188,6 +192,15 @@ class DdsResponsePort : public ResponsePort {
     return shared_.aborted.count(service_) > 0 || r_.state() != InteractionState::Active;
   }
   bool recover(Millis timeout) override { return recover_handle(r_, shared_, timeout); }
+  Outcome wait_settled(Millis timeout) override {
+    const bool ended =
+        shared_.wait(timeout, [&] { return r_.state() != InteractionState::Complete; });
+    if (!ended) {
+      return Outcome::TimedOut;
+    }
+    return is_idle(r_.state()) ? Outcome::Completed : Outcome::Failed;
+  }
+  bool failed() override { return r_.state() == InteractionState::Fail; }
 
  private:
   dds::Responder& r_;

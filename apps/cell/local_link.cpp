@@ -201,6 +201,21 @@ class LocalResponsePort : public ResponsePort {
   void fail() override {
     bus_.command(w_, [&](core::TimePoint now) { return w_.resp.fail(now); });
   }
+  Outcome wait_settled(Millis timeout) override {
+    Outcome out = Outcome::TimedOut;
+    bus_.wait(timeout, [&] {
+      const auto s = w_.resp.state();
+      if (s == InteractionState::Complete) {
+        return false;
+      }
+      out = s == InteractionState::Fail ? Outcome::Failed : Outcome::Completed;
+      return true;
+    });
+    return out;
+  }
+  bool failed() override {
+    return bus_.wait(Millis(0), [&] { return w_.resp.state() == InteractionState::Fail; });
+  }
   bool cancelled() override {
     return bus_.wait(Millis(0), [&] { return w_.resp.state() != InteractionState::Active; });
   }

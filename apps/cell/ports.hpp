@@ -59,6 +59,12 @@ class ResponsePort {
   virtual bool cancelled() = 0;
   // Back to READY after a failure (waits for the requester's FAIL ack).
   virtual bool recover(Millis timeout) = 0;
+  // After complete(): Completed once the requester acknowledged (steps 6-8,
+  // response idle again), Failed when the response went FAIL instead (the
+  // requester failed or was lost before acknowledging).
+  virtual Outcome wait_settled(Millis timeout) = 0;
+  // The response is FAIL (e.g. left over from a loss while idle).
+  virtual bool failed() = 0;
 };
 
 // One station's equipment as the scripts see it.

@@ -35,10 +35,11 @@ using core::Service;
 using Clock = std::chrono::steady_clock;
 
 constexpr Millis kPoll{100};  // how often an idle unit re-checks for stop
-// A step failing this often in a row stops the cell: a real fault, not a
-// passing one. Generous, because loss-of-communication alarms under load
-// also fail steps (see README "Simulated cell").
-constexpr int kAttempts = 10;
+// A step that has not completed this long after its first attempt stops the
+// cell: a real fault, not a passing one. Time rather than a count of
+// attempts, because a burst of loss-of-communication alarms under load can
+// fail many quick attempts in a row (see README "Simulated cell").
+constexpr std::chrono::seconds kGiveUpAfter{60};
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -153,6 +154,41 @@ bool recover_response(Ctx& c, Service s, const std::string& indent) {
   return false;
 }
 
+// complete() and then the requester's acknowledgement (steps 4-8). A
+// requester that fails or is lost before acknowledging leaves the response
+// FAIL, which must be recovered like any other failure. True when acked.
+bool finish_job(Ctx& c, ResponsePort& port, Service s, const std::string& indent) {
+  if (!port.complete()) {
+    recover_response(c, s, indent);
+    return false;
+  }
+  Outcome out = Outcome::TimedOut;
+  in_slices(c, c.options.handshake_timeout, [&](Millis m) {
+    out = port.wait_settled(m);
+    return out != Outcome::TimedOut;
+  });
+  if (out == Outcome::Completed || c.stop.stopped()) {
+    return out == Outcome::Completed;
+  }
+  c.say(format("%s%-15s response FAIL after COMPLETE (requester failed or lost before its "
+               "acknowledgement)",
+               indent.c_str(), name(s).c_str()));
+  recover_response(c, s, indent);
+  return false;
+}
+
+// An idle unit's responses can still be failed by a loss of communication
+// or a late counterpart FAIL: clear them so the next request finds READY.
+void recover_idle(Ctx& c, std::initializer_list<Service> services, const std::string& indent) {
+  for (Service s : services) {
+    if (c.link.responder(s).failed()) {
+      c.say(format("%s%-15s response FAIL while idle: recovering", indent.c_str(),
+                   name(s).c_str()));
+      recover_response(c, s, indent);
+    }
+  }
+}
+
 // ---------------------------------------------------------------- machine
 
 struct MachineStats {
@@ -165,7 +201,8 @@ struct MachineStats {
 // One step of the machine's cycle; retried after a recovered failure.
 bool machine_step(Ctx& c, int cycle, Service s, MachineStats& st) {
   const char* responder = s == Service::MaterialFeed ? "feeder" : "robot";
-  for (int attempt = 1; attempt <= kAttempts && !c.stop.stopped(); ++attempt) {
+  const auto give_up = Clock::now() + kGiveUpAfter;
+  for (int attempt = 1; Clock::now() < give_up && !c.stop.stopped(); ++attempt) {
     std::optional<Fault> fault;
     const auto due = c.plan.at(cycle);
     if (due && due->party == StationId::Machine && due->service == s &&
@@ -262,9 +299,7 @@ void actuator_job(Ctx& c, const Actuator& a, Service job, int cycle, bool& is_op
   }
   // Logged first: once published, the robot's reaction may print before us.
   c.say(format("  %-15s COMPLETE, %s %s", name(job).c_str(), a.item, is_open ? "OPEN" : "CLOSED"));
-  if (!port.complete()) {
-    recover_response(c, job, "  ");
-  }
+  finish_job(c, port, job, "  ");
 }
 
 void run_actuator(Ctx& c, const Actuator& a, const std::atomic<int>& cycle_now,
@@ -275,6 +310,8 @@ void run_actuator(Ctx& c, const Actuator& a, const std::atomic<int>& cycle_now,
     const auto job = c.link.wait_job({a.open, a.close}, kPoll);
     if (job) {
       actuator_job(c, a, *job, cycle_now.load(), is_open);
+    } else {
+      recover_idle(c, {a.open, a.close}, "  ");
     }
   }
 }
@@ -370,6 +407,7 @@ int run_robot(Ctx& c) {
   while (!c.stop.stopped()) {
     const auto job = c.link.wait_job({Service::MaterialLoad, Service::MaterialUnload}, kPoll);
     if (!job) {
+      recover_idle(c, {Service::MaterialLoad, Service::MaterialUnload}, "");
       continue;
     }
     const bool load = *job == Service::MaterialLoad;
@@ -385,10 +423,11 @@ int run_robot(Ctx& c) {
     }
     if (end == JobEnd::Done) {
       c.say(format("%-15s COMPLETE", name(*job).c_str()));
-      if (port.complete()) {
+      // Counted once acknowledged: a load the machine failed is retried.
+      if (finish_job(c, port, *job, "")) {
         ++done[load ? 0 : 1];
-        continue;
       }
+      continue;
     }
     recover_response(c, *job, "");
   }
@@ -402,6 +441,7 @@ int run_feeder(Ctx& c) {
   while (!c.stop.stopped()) {
     const auto job = c.link.wait_job({Service::MaterialFeed}, kPoll);
     if (!job) {
+      recover_idle(c, {Service::MaterialFeed}, "");
       continue;
     }
     ResponsePort& port = c.link.responder(*job);
@@ -420,10 +460,10 @@ int run_feeder(Ctx& c) {
     }
     if (!port.cancelled()) {
       c.say("MATERIAL_FEED   COMPLETE");
-      if (port.complete()) {
+      if (finish_job(c, port, *job, "")) {
         ++feeds;
-        continue;
       }
+      continue;
     }
     recover_response(c, *job, "");
   }
