@@ -18,6 +18,20 @@ RespondConfig parse_respond(const ParsedArgs& args) {
   }
   c.not_ready = args.has("not-ready");
   c.equipment.stay_not_ready = c.not_ready;
+  if (auto d = args.value("door-state")) {
+    const auto parsed = core::parse_door_state(*d);
+    if (!parsed || *parsed == core::DoorState::Unavailable) {
+      throw UsageError("--door-state expects OPEN, UNLATCHED or CLOSED, got '" + *d + "'");
+    }
+    c.equipment.door_state = parsed;
+  }
+  if (auto d = args.value("chuck-state")) {
+    const auto parsed = core::parse_chuck_state(*d);
+    if (!parsed || *parsed == core::ChuckState::Unavailable) {
+      throw UsageError("--chuck-state expects OPEN, UNLATCHED or CLOSED, got '" + *d + "'");
+    }
+    c.equipment.chuck_state = parsed;
+  }
   c.fail_plan = parse_fail_options(args, true);
   return c;
 }
@@ -76,6 +90,11 @@ Command respond_command() {
       {"action-ms", "MS[,MS...]", "action duration per handshake (the last value repeats)", "500"},
       {"count", "N", "exit after N handshakes", "until Ctrl-C"},
       {"not-ready", "", "stay NOT_READY (refuse every request)", ""},
+      {"door-state", "STATE",
+       "publish DOOR_STATE from OPEN|UNLATCHED|CLOSED; OPEN_DOOR/CLOSE_DOOR move it and are "
+       "NOT_READY when already there",
+       "not published"},
+      {"chuck-state", "STATE", "same for CHUCK_STATE with OPEN_CHUCK/CLOSE_CHUCK", "not published"},
   };
   add_equipment_options(spec, true);
   add_fail_options(spec, true);

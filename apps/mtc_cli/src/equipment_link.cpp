@@ -154,6 +154,14 @@ void EquipmentLink::Impl::declare() {
   itf.id = config.interface_id;
   itf.type = config.interface_type;
   itf.counterpart.device_uuid = config.counterpart;
+  if (config.door_state) {
+    itf.publishes_door_state = true;
+    itf.initial_door_state = *config.door_state;
+  }
+  if (config.chuck_state) {
+    itf.publishes_chuck_state = true;
+    itf.initial_chuck_state = *config.chuck_state;
+  }
   equipment->add_interface(itf);
   dds::ServiceOptions options;
   options.limits.fail_ack = config.fail_ack_timeout;
@@ -236,6 +244,14 @@ EquipmentLink::Refusal EquipmentLink::recover(core::Service s) {
 }
 EquipmentLink::Refusal EquipmentLink::set_ready(core::Service s, bool ready) {
   return refusal(impl_->handle(s).set_ready(ready));
+}
+
+void EquipmentLink::set_door_state(core::DoorState state) {
+  impl_->equipment->set_door_state(impl_->config.interface_id, state).get();
+}
+
+void EquipmentLink::set_chuck_state(core::ChuckState state) {
+  impl_->equipment->set_chuck_state(impl_->config.interface_id, state).get();
 }
 
 core::InteractionState EquipmentLink::state(core::Service s) const {

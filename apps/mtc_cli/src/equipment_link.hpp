@@ -34,6 +34,10 @@ class EquipmentLink {
   Refusal fail(core::Service s);      // either side: -> FAIL
   Refusal recover(core::Service s);   // FAIL -> READY (once acknowledged)
   Refusal set_ready(core::Service s, bool ready);
+  // Moves the door / chuck this equipment controls (--door-state, --chuck-state).
+  void set_door_state(core::DoorState state);
+  void set_chuck_state(core::ChuckState state);
+
   // Latest published own state (snapshot, any thread).
   core::InteractionState state(core::Service s) const;
 

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,11 @@ struct EquipmentConfig {
   std::chrono::milliseconds fail_ack_timeout{2000};
   // Responder --not-ready: start NOT_READY and clear every FAIL to NOT_READY.
   bool stay_not_ready = false;
+  // Responder --door-state / --chuck-state: this equipment controls the door
+  // (chuck), publishes DOOR_STATE (CHUCK_STATE) from this initial value, and
+  // OPEN_/CLOSE_ services move it.
+  std::optional<core::DoorState> door_state;
+  std::optional<core::ChuckState> chuck_state;
 };
 
 // add_*: declare the flags; parse_*: read them (UsageError on bad values).

@@ -87,6 +87,8 @@ void RespondRunner::on_timers(Slot& slot, TimePoint now) {
       inject(slot);
     } else if (auto refused = link_.complete(slot.service)) {
       slot.trace.note("refused", *refused);
+    } else {
+      move_door_or_chuck(slot);
     }
   }
 }
@@ -172,6 +174,26 @@ void RespondRunner::close(Slot& slot) {
   ++closed_;
   slot.trace.note("closed", "response " + std::string(core::to_string(slot.own)) + ", request " +
                                 std::string(core::to_string(slot.peer)));
+}
+
+// The door/chuck reaches its new position as the service completes.
+void RespondRunner::move_door_or_chuck(Slot& slot) {
+  const auto& eq = config_.equipment;
+  const bool door =
+      slot.service == core::Service::OpenDoor || slot.service == core::Service::CloseDoor;
+  const bool chuck =
+      slot.service == core::Service::OpenChuck || slot.service == core::Service::CloseChuck;
+  if (door && eq.door_state) {
+    const auto s =
+        slot.service == core::Service::OpenDoor ? core::DoorState::Open : core::DoorState::Closed;
+    link_.set_door_state(s);
+    slot.trace.note("door_state", std::string(core::to_string(s)));
+  } else if (chuck && eq.chuck_state) {
+    const auto s = slot.service == core::Service::OpenChuck ? core::ChuckState::Open
+                                                            : core::ChuckState::Closed;
+    link_.set_chuck_state(s);
+    slot.trace.note("chuck_state", std::string(core::to_string(s)));
+  }
 }
 
 RespondRunner::TimePoint RespondRunner::next_wake() const {

@@ -57,6 +57,7 @@ class RespondRunner {
   void report(Slot& slot, Result result, const std::string& reason);
   void maintain(Slot& slot);
   void close(Slot& slot);
+  void move_door_or_chuck(Slot& slot);
   TimePoint next_wake() const;
 
   RespondConfig config_;
