@@ -9,7 +9,9 @@
 #include "cli_args.hpp"
 #include "equipment_options.hpp"
 #include "fail_injection.hpp"
+#include "mtc/qos/presets.hpp"
 #include "output.hpp"
+#include "profiles.hpp"
 
 namespace mtc::cli {
 namespace {
@@ -121,6 +123,21 @@ TEST(JsonLine, EscapesAndRoundTripsThroughTheTestReader) {
   EXPECT_EQ(test::json_field(text, "handshake"), "12");
   EXPECT_EQ(test::json_field(quoted.str(), "reason"), "say \"hi\"");
   EXPECT_FALSE(test::json_field(text, "missing"));
+}
+
+TEST(Profiles, ParticipantProfilesSelectTheTransportEndpointPresetsDoNot) {
+  CommandSpec spec;
+  spec.name = "x";
+  add_common_options(spec);
+  auto common = parse_common_options(
+      parse_args(spec, {"--qos-profile", std::string(qos::kLoopbackUdpParticipantProfile)}));
+  EXPECT_EQ(common.profile_transport, qos::Transport::LoopbackUdp);
+  EXPECT_TRUE(common.qos_profile.empty());
+  common =
+      parse_common_options(parse_args(spec, {"--qos-profile", std::string(qos::kStateProfile)}));
+  EXPECT_FALSE(common.profile_transport.has_value());
+  EXPECT_EQ(common.qos_profile, qos::kStateProfile);
+  EXPECT_THROW(parse_common_options(parse_args(spec, {"--qos-profile", "mtc.fast"})), UsageError);
 }
 
 }  // namespace

@@ -3,10 +3,12 @@
 // handles --help and usage errors, and calls run with a Context.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_args.hpp"
+#include "mtc/qos/participant.hpp"
 #include "output.hpp"
 #include "shutdown_signal.hpp"
 
@@ -21,7 +23,11 @@ struct Context {
 // Options every subcommand shares.
 struct CommonOptions {
   int domain = 0;
-  std::string qos_profile;  // mtc::qos preset name; empty = the library default
+  // An endpoint preset of mtc::qos ("mtc.state"); empty = the library default.
+  std::string qos_profile;
+  // Set when --qos-profile named a participant profile
+  // ("mtc.participant.loopback_udp"): the transport it selects.
+  std::optional<qos::Transport> profile_transport;
   bool json = false;
 };
 

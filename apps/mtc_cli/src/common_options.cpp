@@ -8,7 +8,9 @@ namespace mtc::cli {
 void add_common_options(CommandSpec& spec) {
   spec.options.push_back({"domain", "N", "DDS domain id (0-232)", "0"});
   spec.options.push_back({"qos-profile", "NAME",
-                          "QoS preset of the state topics (" + known_profiles_text() + ")",
+                          "QoS profile: a state-topic preset or a participant profile, which "
+                          "selects the transport (" +
+                              known_profiles_text() + ")",
                           "library default, loopback transport"});
   spec.options.push_back({"json", "", "print one JSON object per line (for scripts)", ""});
 }
@@ -22,7 +24,11 @@ CommonOptions parse_common_options(const ParsedArgs& args) {
     if (!is_known_profile(*p)) {
       throw UsageError("unknown QoS profile '" + *p + "' (known: " + known_profiles_text() + ")");
     }
-    common.qos_profile = *p;
+    if (auto transport = participant_profile_transport(*p)) {
+      common.profile_transport = transport;  // a participant profile picks the transport
+    } else {
+      common.qos_profile = *p;
+    }
   }
   common.json = args.has("json");
   return common;

@@ -13,18 +13,8 @@ namespace mtc::cli {
 namespace {
 
 qos::Transport to_transport(const EquipmentConfig& c) {
-  if (c.drop_percent > 0) {
-    return qos::Transport::LoopbackTest;
-  }
-  switch (c.transport) {
-    case TransportChoice::Loopback:
-      return qos::Transport::Loopback;
-    case TransportChoice::LoopbackUdp:
-      return qos::Transport::LoopbackUdp;
-    case TransportChoice::Builtin:
-      return qos::Transport::Builtin;
-  }
-  return qos::Transport::Loopback;
+  // --drop-percent needs the fault-injecting test transport.
+  return c.drop_percent > 0 ? qos::Transport::LoopbackTest : c.transport;
 }
 
 Result to_result(const dds::RequestResult& r, core::InteractionState counterpart) {

@@ -22,17 +22,18 @@ std::string required(const ParsedArgs& args, const std::string& name) {
   return *v;
 }
 
-TransportChoice parse_transport(const std::string& text) {
-  if (text == "loopback") {
-    return TransportChoice::Loopback;
+// --transport, else the transport of a participant --qos-profile, else loopback.
+qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& common) {
+  const auto text = args.value("transport");
+  if (!text) {
+    return common.profile_transport.value_or(qos::Transport::Loopback);
   }
-  if (text == "loopback-udp") {
-    return TransportChoice::LoopbackUdp;
+  const auto parsed = qos::parse_transport(*text);
+  if (!parsed) {
+    throw UsageError("--transport expects loopback, loopback-udp, test or builtin, got '" + *text +
+                     "'");
   }
-  if (text == "builtin") {
-    return TransportChoice::Builtin;
-  }
-  throw UsageError("--transport expects loopback, loopback-udp or builtin, got '" + text + "'");
+  return *parsed;
 }
 
 }  // namespace
@@ -88,8 +89,9 @@ std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text) 
 }
 
 void add_observer_options(CommandSpec& spec) {
-  spec.options.push_back(
-      {"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin", "loopback"});
+  spec.options.push_back({"transport", "KIND",
+                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
+                          "loopback"});
   spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of the watched devices", "100"});
   spec.options.push_back({"missed-heartbeats", "N",
                           "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
@@ -97,11 +99,9 @@ void add_observer_options(CommandSpec& spec) {
                           "3"});
 }
 
-ObserverSettings parse_observer_options(const ParsedArgs& args) {
+ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common) {
   ObserverSettings s;
-  if (auto t = args.value("transport")) {
-    s.transport = parse_transport(*t);
-  }
+  s.transport = transport_option(args, common);
   if (auto h = args.value("heartbeat-ms")) {
     s.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
   }
@@ -126,8 +126,9 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
       {"counterpart", "UUID",
        many_services ? "device uuid of the requester" : "device uuid of the responder (required)",
        many_services ? "any" : ""});
-  spec.options.push_back(
-      {"transport", "KIND", "loopback (UDP 127.0.0.1 + SHM), loopback-udp, builtin", "loopback"});
+  spec.options.push_back({"transport", "KIND",
+                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
+                          "loopback"});
   spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of every data item", "100"});
   spec.options.push_back(
       {"missed-heartbeats", "N", "heartbeats missed before the peer counts as lost", "3"});
@@ -161,9 +162,7 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
     }
     c.interface_type = *parsed;
   }
-  if (auto t = args.value("transport")) {
-    c.transport = parse_transport(*t);
-  }
+  c.transport = transport_option(args, c.common);
   if (auto h = args.value("heartbeat-ms")) {
     c.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
   }

@@ -12,10 +12,9 @@
 #include "commands.hpp"
 #include "fail_injection.hpp"
 #include "mtc/core/vocabulary.hpp"
+#include "mtc/qos/participant.hpp"
 
 namespace mtc::cli {
-
-enum class TransportChoice : std::uint8_t { Loopback, LoopbackUdp, Builtin };
 
 struct EquipmentConfig {
   CommonOptions common;
@@ -25,7 +24,7 @@ struct EquipmentConfig {
   core::InterfaceType interface_type = core::InterfaceType::MaterialHandler;
   std::vector<core::Service> services;
   std::string counterpart;  // device uuid of the other side; may be empty for respond
-  TransportChoice transport = TransportChoice::Loopback;
+  qos::Transport transport = qos::Transport::Loopback;
   std::chrono::milliseconds heartbeat{100};
   int missed_heartbeats = 3;
   int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
@@ -52,11 +51,11 @@ FailPlan parse_fail_options(const ParsedArgs& args, bool responder);
 void add_observer_options(CommandSpec& spec);
 // Fills transport and timing of a DomainObserverOptions-like struct.
 struct ObserverSettings {
-  TransportChoice transport = TransportChoice::Loopback;
+  qos::Transport transport = qos::Transport::Loopback;
   std::chrono::milliseconds heartbeat{100};
   int missed_heartbeats = 3;
 };
-ObserverSettings parse_observer_options(const ParsedArgs& args);
+ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common);
 
 // "MATERIAL_LOAD" -> Service; "all" or a comma list when many is true.
 std::vector<core::Service> parse_services(const std::string& text, bool many);

@@ -17,22 +17,12 @@ std::string_view to_string(dds::ItemKind kind) {
 }
 
 dds::DomainObserverOptions observer_options(const CommonOptions& common, const ParsedArgs& args) {
-  const ObserverSettings s = parse_observer_options(args);
+  const ObserverSettings s = parse_observer_options(args, common);
   dds::DomainObserverOptions o;
   o.domain_id = common.domain;
   o.qos_profile = common.qos_profile;
   o.device_filter = args.values("device");
-  switch (s.transport) {
-    case TransportChoice::Loopback:
-      o.transport = qos::Transport::Loopback;
-      break;
-    case TransportChoice::LoopbackUdp:
-      o.transport = qos::Transport::LoopbackUdp;
-      break;
-    case TransportChoice::Builtin:
-      o.transport = qos::Transport::Builtin;
-      break;
-  }
+  o.transport = s.transport;
   o.timing.heartbeat = s.heartbeat;
   o.timing.missed_heartbeats = s.missed_heartbeats;
   return o;

@@ -1,19 +1,36 @@
 #include "profiles.hpp"
 
 #include <algorithm>
+#include <vector>
 
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::cli {
 
+namespace {
+std::vector<std::string> all_profile_names() {
+  auto names = qos::preset_names();
+  names.emplace_back(qos::kLoopbackParticipantProfile);
+  names.emplace_back(qos::kLoopbackUdpParticipantProfile);
+  return names;
+}
+}  // namespace
+
 bool is_known_profile(const std::string& name) {
-  const auto names = qos::preset_names();
+  const auto names = all_profile_names();
   return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+std::optional<qos::Transport> participant_profile_transport(const std::string& name) {
+  if (name == qos::kLoopbackParticipantProfile || name == qos::kLoopbackUdpParticipantProfile) {
+    return qos::participant_config(name).transport;
+  }
+  return std::nullopt;
 }
 
 std::string known_profiles_text() {
   std::string text;
-  for (const auto& n : qos::preset_names()) {
+  for (const auto& n : all_profile_names()) {
     text += (text.empty() ? "" : ", ") + n;
   }
   return text;

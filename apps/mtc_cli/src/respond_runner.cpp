@@ -85,10 +85,13 @@ void RespondRunner::on_timers(Slot& slot, TimePoint now) {
     slot.action_end.reset();
     if (slot.decision.step == FailStep::Complete) {
       inject(slot);
-    } else if (auto refused = link_.complete(slot.service)) {
+      return;
+    }
+    // The door/chuck is where the service puts it before COMPLETE is
+    // reported, so the acknowledgement finds the new precondition in place.
+    move_door_or_chuck(slot);
+    if (auto refused = link_.complete(slot.service)) {
       slot.trace.note("refused", *refused);
-    } else {
-      move_door_or_chuck(slot);
     }
   }
 }
@@ -176,7 +179,7 @@ void RespondRunner::close(Slot& slot) {
                                 std::string(core::to_string(slot.peer)));
 }
 
-// The door/chuck reaches its new position as the service completes.
+// The door/chuck reaches the position the service was asked for.
 void RespondRunner::move_door_or_chuck(Slot& slot) {
   const auto& eq = config_.equipment;
   const bool door =
