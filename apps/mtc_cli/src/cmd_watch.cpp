@@ -39,6 +39,7 @@ class WatchPrinter {
     std::string previous;
     {
       std::lock_guard<std::mutex> lock(mutex_);
+      labels_[{v.device_uuid, v.data_item_id}] = v.interface_id + "  " + item_label(v);
       auto& slot = last_[{v.device_uuid, v.data_item_id}];
       previous = slot.empty() ? "-" : slot;
       slot = v.value;
@@ -76,8 +77,12 @@ class WatchPrinter {
     const std::int64_t now = now_ns();
     for (const auto& item : items) {
       std::string previous;
+      std::string label = item;
       {
         std::lock_guard<std::mutex> lock(mutex_);
+        if (auto it = labels_.find({device, item}); it != labels_.end()) {
+          label = it->second;
+        }
         auto& slot = last_[{device, item}];
         previous = slot.empty() ? "-" : slot;
         slot = "UNAVAILABLE";
@@ -87,13 +92,14 @@ class WatchPrinter {
         line.field("event", "lost")
             .field("device", device)
             .field("item", item)
+            .field("label", label)
             .field("previous", previous)
             .field("value", "UNAVAILABLE")
             .field("reception_time_ns", now);
         out_.line(line.str());
       } else {
         std::string text = format_utc(now);
-        text += "  " + device + "  " + item + "  " + previous;
+        text += "  " + device + "/" + label + "  " + previous;
         text += " -> UNAVAILABLE  (writer lost: liveliness or disposal)";
         out_.line(text);
       }
@@ -119,6 +125,8 @@ class WatchPrinter {
   bool heartbeats_;
   std::mutex mutex_;
   std::map<std::pair<std::string, std::string>, std::string> last_;
+  // "mh  MATERIAL_LOAD REQUEST" per (device, data item id), for lost items.
+  std::map<std::pair<std::string, std::string>, std::string> labels_;
 };
 
 int run_watch(const ParsedArgs& args, Context& context) {
