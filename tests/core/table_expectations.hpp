@@ -3,6 +3,10 @@
 // generated from the implementation.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
 #include <vector>
 
 #include "machine_fixtures.hpp"
@@ -46,6 +50,43 @@ inline std::vector<TableCase> table_cases(std::size_t setups) {
     for (std::size_t i = 0; i < setups; ++i) cases.push_back({p, i});
   }
   return cases;
+}
+
+// Applies every row of one starting setup to a fresh machine from
+// `make_machine(setup, profile)` and checks the outcome the row expects; then
+// `role_check(machine, result)` asserts what only that role must hold. Shared
+// by the requester and responder tables so both are checked the same way.
+template <typename MakeMachine, typename RoleCheck>
+void check_every_event(const SetupExpectations& setup, Profile profile, Role role,
+                       MakeMachine make_machine, RoleCheck role_check) {
+  const bool v13 = profile == Profile::V1_3;
+  std::set<Event> covered;
+  for (const Expect& x : setup.rows) {
+    covered.insert(x.event);
+    auto m = make_machine(setup.setup, profile);
+    const InteractionState before = m.state();
+    const StepResult r = m.step(x.event, kT0);
+    SCOPED_TRACE(::testing::Message() << "from " << setup_name(setup.setup) << " event " << x.event
+                                      << (v13 ? " (1.3)" : " (1.6)"));
+    EXPECT_EQ(r.previous, before);
+    EXPECT_EQ(r.current, v13 ? x.state13 : x.state16);
+    EXPECT_EQ(m.state(), r.current);
+    EXPECT_EQ(r.notice, v13 ? x.notice13 : x.notice16);
+    EXPECT_EQ(r.reason, v13 ? x.reason13 : x.reason16);
+    EXPECT_EQ(r.event, x.event);
+    EXPECT_EQ(r.role, role);
+    if (r.rejected()) {
+      EXPECT_FALSE(r.changed()) << "a rejection must not change state";
+    }
+    role_check(m, r);
+  }
+  EXPECT_EQ(covered.size(), kEventCount) << setup_name(setup.setup) << " does not list every event";
+}
+
+// Test name of one parameter: profile and starting setup.
+inline std::string table_case_name(const TableCase& c, const std::vector<SetupExpectations>& all) {
+  return std::string(c.profile == Profile::V1_3 ? "V1_3_" : "V1_6_") +
+         setup_name(all[c.setup_index].setup);
 }
 
 }  // namespace mtc::core::testing_support

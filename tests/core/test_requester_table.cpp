@@ -278,37 +278,14 @@ const std::vector<SetupExpectations>& expectations() {
 class RequesterTable : public ::testing::TestWithParam<TableCase> {};
 
 TEST_P(RequesterTable, EveryEventMatchesTheSpec) {
-  const Profile profile = GetParam().profile;
-  const SetupExpectations& setup = expectations()[GetParam().setup_index];
-  const bool v13 = profile == Profile::V1_3;
-  std::set<Event> covered;
-  for (const Expect& x : setup.rows) {
-    covered.insert(x.event);
-    Requester m = requester_in(setup.setup, profile);
-    const InteractionState before = m.state();
-    const StepResult r = m.step(x.event, kT0);
-    SCOPED_TRACE(::testing::Message() << "from " << setup_name(setup.setup) << " event " << x.event
-                                      << (v13 ? " (1.3)" : " (1.6)"));
-    EXPECT_EQ(r.previous, before);
-    EXPECT_EQ(r.current, v13 ? x.state13 : x.state16);
-    EXPECT_EQ(m.state(), r.current);
-    EXPECT_EQ(r.notice, v13 ? x.notice13 : x.notice16);
-    EXPECT_EQ(r.reason, v13 ? x.reason13 : x.reason16);
-    EXPECT_EQ(r.event, x.event);
-    EXPECT_EQ(r.role, Role::Requester);
-    if (r.rejected()) {
-      EXPECT_FALSE(r.changed()) << "a rejection must not change state";
-    }
-  }
-  EXPECT_EQ(covered.size(), kEventCount) << setup_name(setup.setup) << " does not list every event";
+  check_every_event(expectations()[GetParam().setup_index], GetParam().profile, Role::Requester,
+                    requester_in, [](const Requester&, const StepResult&) {});
 }
 
 INSTANTIATE_TEST_SUITE_P(Pairs, RequesterTable,
                          ::testing::ValuesIn(table_cases(expectations().size())),
                          [](const ::testing::TestParamInfo<TableCase>& param_info) {
-                           return std::string(param_info.param.profile == Profile::V1_3 ? "V1_3_"
-                                                                                        : "V1_6_") +
-                                  setup_name(expectations()[param_info.param.setup_index].setup);
+                           return table_case_name(param_info.param, expectations());
                          });
 
 TEST(RequesterTable, SetupsReachEveryPhaseOfTheRole) {
