@@ -114,7 +114,7 @@ echo "$port" >"$port_file"
 if [ -x "$bridge" ]; then
   # Same heartbeat as the cell (mtc-cell defaults), so the bridge does not
   # declare a device lost before the stations would.
-  "$bridge" --domain-ids "$domain" --port "$port" --heartbeat-ms 200 --missed-heartbeats 5 \
+  "$bridge" --domain-ids "$domain" --port "$port" --heartbeat-ms 1000 --missed-heartbeats 10 \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
   # Wait until the agent answers (it also needs no device yet to answer).

@@ -171,9 +171,9 @@ class Supervisor {
     freeze_at_ = Clock::now() + freeze_length();
   }
 
-  // Two leases and a half: long enough to be declared lost for certain.
+  // A lease and 3 s: long enough to be declared lost for certain.
   Clock::duration freeze_length() const {
-    return options_.heartbeat * options_.missed_heartbeats * 5 / 2;
+    return options_.heartbeat * options_.missed_heartbeats + std::chrono::seconds(3);
   }
 
   void begin_stop(const char* why, int code) {
