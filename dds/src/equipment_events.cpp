@@ -24,7 +24,7 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
             on_writer_lost(group, e.writer, "writer liveliness lost", true);
           }
         } else if constexpr (std::is_same_v<T, detail::DeadlineMissedEvent>) {
-          on_gone(group, e.topic, e.instance, "deadline missed", true);
+          on_deadline_missed(group);
         } else {
           // Once per topic and group: with several timings, a fast group's
           // readers never match a slow group's writers, by design.
@@ -198,6 +198,30 @@ bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
     return true;
   }
   return false;
+}
+
+// A DEADLINE miss is a cue to check, not a verdict on the instance it names:
+// Fast DDS 2.9 keeps one timer per reader and reports whichever instance owns
+// it without re-checking that instance's deadline, an instance that stops
+// receiving samples (a departed writer's, one of a device we do not talk to)
+// re-fires every period forever, and instance handles are not a reliable key
+// between processes (see KeyGuardedType in domain_tap.cpp). What makes a link
+// lost is its counterpart interface being silent for about a lease; every
+// item of an interface is re-published on each heartbeat, so its freshest
+// reception is the measure. Half a heartbeat of slack absorbs the gap
+// between the timer and the last reception of the instance that armed it.
+void EquipmentImpl::on_deadline_missed(std::size_t group) {
+  const auto& timing = groups[group]->timing;
+  const auto limit = std::chrono::nanoseconds(timing.lease()) -
+                     std::chrono::nanoseconds(timing.heartbeat) / 2;
+  const auto now = topics::realtime_ns();
+  for (auto& itf : interfaces) {
+    if (itf->group != group || itf->link.load() != LinkState::Up) continue;
+    const auto silence = std::chrono::nanoseconds(now - itf->last_heard_ns);
+    if (silence < limit) continue;
+    link_lost(*itf, "deadline missed: nothing heard for " +
+                        std::to_string(silence.count() / 1000000) + " ms");
+  }
 }
 
 void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Handle& instance,

@@ -169,6 +169,7 @@ struct EquipmentImpl {
                const char* cause, bool check_silence);
   void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
                       bool check_silence);
+  void on_deadline_missed(std::size_t group);
   bool recently_heard(std::size_t group, std::int64_t last_ns, const std::string& what);
   void link_lost(InterfaceSlot& itf, const std::string& cause);
   void link_up(InterfaceSlot& itf, const char* cause);
