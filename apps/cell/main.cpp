@@ -27,7 +27,7 @@ void usage(std::ostream& out) {
          "                   for a lease + 3 s: scenario 6 (default 0 = never; processes only)\n"
          "  --domain D       DDS domain id (default 110)\n"
          "  --heartbeat-ms MS, --missed-heartbeats N\n"
-         "                   DDS heartbeat and loss detection (default 1000 x 10 = 10 s)\n"
+         "                   DDS heartbeat and loss detection (default 100 x 3 = 300 ms)\n"
          "  --threads        run the three stations as threads of one process\n"
          "  --local          same, over an in-memory link instead of DDS (no network)\n"
          "  --station NAME   run one station only: machine, robot or feeder\n"

@@ -29,13 +29,10 @@ struct CellOptions {
   Millis pace{150};                 // duration of one simulated motion
   Millis handshake_timeout{15000};  // a handshake that takes longer is a cell fault
   // DDS heartbeat of every station and how many may be missed before a peer
-  // counts as lost (scenario 6); the bridge is started with the same values.
-  // 1 s x 10: the runtime currently raises false "deadline missed" alarms
-  // once per lease period (see README "Simulated cell"); with a 10 s lease
-  // they are rare enough for the cell to run. Shorter leases work with
-  // --heartbeat-ms / --missed-heartbeats once that is fixed.
-  Millis heartbeat{1000};
-  int missed_heartbeats = 10;
+  // counts as lost (scenario 6): the runtime's default, a 300 ms lease. The
+  // bridge should be started with the same values.
+  Millis heartbeat{100};
+  int missed_heartbeats = 3;
 };
 
 // Stop request shared by a station's threads; its sleeps wake on stop().
