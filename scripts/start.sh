@@ -69,9 +69,17 @@ esac
 # ---------------------------------------------------------------- run
 build_first=1
 cell_args=()
+# The bridge's observer must use the cell's lease: a reader whose lease is
+# shorter than the writers' does not match them (and Fast DDS detects loss
+# with the reader's own lease). mtc-cell defaults: 100 ms x 3.
+heartbeat_ms=100
+missed_heartbeats=3
 while [ $# -gt 0 ]; do
   case "$1" in
     --no-build) build_first=0; shift ;;
+    --heartbeat-ms) heartbeat_ms="${2:?--heartbeat-ms needs a value}"; cell_args+=("$1" "$2"); shift 2 ;;
+    --missed-heartbeats)
+      missed_heartbeats="${2:?--missed-heartbeats needs a value}"; cell_args+=("$1" "$2"); shift 2 ;;
     --port) port="${2:?--port needs a value}"; shift 2 ;;
     --domain) domain="${2:?--domain needs a value}"; shift 2 ;;
     --inner) shift ;;  # set by the re-exec below
@@ -112,9 +120,10 @@ echo $$ >"$pidfile"
 echo "$port" >"$port_file"
 
 if [ -x "$bridge" ]; then
-  # Same heartbeat as the cell (mtc-cell defaults), so the bridge does not
-  # declare a device lost before the stations would.
-  "$bridge" --domain-ids "$domain" --port "$port" --heartbeat-ms 1000 --missed-heartbeats 10 \
+  # Same heartbeat as the cell, so the bridge matches the stations' writers
+  # and declares a device lost when the stations would.
+  "$bridge" --domain-ids "$domain" --port "$port" --heartbeat-ms "$heartbeat_ms" \
+    --missed-heartbeats "$missed_heartbeats" \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
   # Wait until the agent answers (it also needs no device yet to answer).
