@@ -17,7 +17,7 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
         } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
           on_device(e);
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
-          on_gone(group, e.topic, e.instance, "disposed or no writers", false);
+          on_gone(group, e.topic, e.instance, "disposed or no writers");
         } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
           if (!e.alive && e.unmatched) on_writer_lost(group, e.writer, "writer unmatched", false);
           if (!e.alive && !e.unmatched) {
@@ -85,8 +85,7 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
   const auto& d = e.device;
   if (d.device_uuid == options.device_uuid) return;
   writer_device[e.writer] = d.device_uuid;
-  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "",
-                                                               topics::realtime_ns()};
+  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", ""};
   writer_last_ns[e.writer] = topics::realtime_ns();
   description_writers.insert(e.writer);
   for (auto& itf : interfaces) {
@@ -107,8 +106,7 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   auto& v = e.value;
   if (v.device_uuid == options.device_uuid) return;
   writer_device[e.writer] = v.device_uuid;
-  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id,
-                                          v.reception_time_ns};
+  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id};
   writer_last_ns[e.writer] = v.reception_time_ns;
   writer_interfaces[e.writer].insert(v.interface_id);
   // A change number that skips ahead means this writer changed something we
@@ -224,15 +222,14 @@ void EquipmentImpl::on_deadline_missed(std::size_t group) {
   }
 }
 
+// Disposal or loss of every writer of an instance: the counterpart said so
+// itself, so no silence check applies (DEADLINE misses go through
+// on_deadline_missed instead).
 void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Handle& instance,
-                            const char* cause, bool check_silence) {
+                            const char* cause) {
   const auto it = instance_item.find({topic, instance});
   if (it == instance_item.end()) return;
   const auto& owner = it->second;
-  if (check_silence &&
-      recently_heard(group, owner.last_ns, std::string(cause) + " of " + owner.item)) {
-    return;
-  }
   for (auto& itf : interfaces) {
     if (itf->cp_uuid != owner.device) continue;
     // A device announcement concerns every interface; items only their group.

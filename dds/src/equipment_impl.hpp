@@ -108,7 +108,6 @@ struct EquipmentImpl {
     std::string device;
     std::string interface_id;
     std::string item;
-    std::int64_t last_ns = 0;  // last reception of this instance
   };
   std::map<detail::Handle, std::int64_t> writer_last_ns;  // last reception per writer
   std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
@@ -166,7 +165,7 @@ struct EquipmentImpl {
   void bind_configured();
   void on_device(detail::DeviceEvent& e);
   void on_gone(std::size_t group, detail::TopicKind topic, const detail::Handle& instance,
-               const char* cause, bool check_silence);
+               const char* cause);
   void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
                       bool check_silence);
   void on_deadline_missed(std::size_t group);
