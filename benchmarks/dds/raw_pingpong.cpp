@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -129,7 +130,7 @@ class Endpoint {
   }
 
  private:
-  fdds::TypeSupport type_{new mtc::idl::InteractionSamplePubSubType()};
+  fdds::TypeSupport type_ = mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>();
   QuietWriterListener writer_listener_;
   fdds::DomainParticipant* participant_ = nullptr;
   fdds::DataWriter* writer_ = nullptr;

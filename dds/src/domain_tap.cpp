@@ -3,10 +3,10 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include <cstring>
-#include <mutex>
 
 #include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds::detail {
@@ -127,33 +127,6 @@ std::string type_name() {
   return t.getName();
 }
 
-// The generated getKey() computes the instance handle in a key buffer and an
-// MD5 context that are members of the type object, and a participant shares
-// one type object between all its writers and readers of the type. Fast DDS
-// 2.9 calls getKey() from the writing thread and from each receive thread
-// without a lock, so concurrent calls corrupted instance handles (seen: one
-// key delivered under several handles, one of them the bare MD5 initial
-// state). An instance that then stops receiving samples under the handle
-// its first samples had raised a DEADLINE miss every lease although the
-// counterpart was alive: false comms-loss alarms between processes.
-template <typename PubSub>
-class KeyGuardedType final : public PubSub {
- public:
-  bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle,
-              bool force_md5) override {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return PubSub::getKey(data, handle, force_md5);
-  }
-
- private:
-  std::mutex mutex_;
-};
-
-template <typename PubSub>
-fdds::TypeSupport guarded_type() {
-  return fdds::TypeSupport(new KeyGuardedType<PubSub>());
-}
-
 }  // namespace
 
 Handle to_handle(const eprosima::fastrtps::rtps::InstanceHandle_t& h) noexcept {
@@ -203,23 +176,23 @@ std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
   switch (kind) {
     case TopicKind::Request:
     case TopicKind::Response:
-      participant.register_type(guarded_type<idl::InteractionSamplePubSubType>());
+      participant.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
       type = type_name<idl::InteractionSamplePubSubType>();
       break;
     case TopicKind::InterfaceState:
-      participant.register_type(guarded_type<idl::InterfaceStateSamplePubSubType>());
+      participant.register_type(idl::type_support<idl::InterfaceStateSamplePubSubType>());
       type = type_name<idl::InterfaceStateSamplePubSubType>();
       break;
     case TopicKind::DoorState:
-      participant.register_type(guarded_type<idl::DoorStateSamplePubSubType>());
+      participant.register_type(idl::type_support<idl::DoorStateSamplePubSubType>());
       type = type_name<idl::DoorStateSamplePubSubType>();
       break;
     case TopicKind::ChuckState:
-      participant.register_type(guarded_type<idl::ChuckStateSamplePubSubType>());
+      participant.register_type(idl::type_support<idl::ChuckStateSamplePubSubType>());
       type = type_name<idl::ChuckStateSamplePubSubType>();
       break;
     case TopicKind::DeviceDescription:
-      participant.register_type(guarded_type<idl::DeviceDescriptionPubSubType>());
+      participant.register_type(idl::type_support<idl::DeviceDescriptionPubSubType>());
       type = type_name<idl::DeviceDescriptionPubSubType>();
       return std::make_unique<Topic>(participant, topic_name(kind), type,
                                      qos::device_description_topic(timing).topic_qos());

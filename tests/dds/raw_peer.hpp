@@ -13,6 +13,7 @@
 #include "mtc/dds/entities.hpp"
 #include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -23,7 +24,7 @@ class RawPeer {
   RawPeer(int domain, const std::string& uuid, core::SubType side, core::Service service)
       : participant_(domain, qos::participant_qos({})),
         publisher_(participant_, {topics::device_partition(uuid)}) {
-    participant_.register_type(fdds::TypeSupport(new idl::InteractionSamplePubSubType()));
+    participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
     topic_ = std::make_unique<Topic>(participant_,
                                      side == core::SubType::Request ? topics::kInteractionRequest
                                                                     : topics::kInteractionResponse,

@@ -11,6 +11,7 @@
 #include "mtc/dds/entities.hpp"
 #include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace {
@@ -61,10 +62,10 @@ class RawDevice {
       : participant_(domain, mtc::qos::participant_qos({})),
         publisher_(participant_, {topics::device_partition(uuid)}),
         uuid_(uuid) {
-    participant_.register_type(eprosima::fastdds::dds::TypeSupport(
-        new mtc::idl::InteractionSamplePubSubType()));
-    participant_.register_type(eprosima::fastdds::dds::TypeSupport(
-        new mtc::idl::DeviceDescriptionPubSubType()));
+    participant_.register_type(
+        mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
+    participant_.register_type(
+        mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
     response_topic_ = std::make_unique<mtc::dds::Topic>(
         participant_, topics::kInteractionResponse, "mtc::idl::InteractionSample",
         mtc::qos::state_topic().topic_qos());

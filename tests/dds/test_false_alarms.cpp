@@ -18,6 +18,7 @@
 #include "mtc/dds/entities.hpp"
 #include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -34,7 +35,7 @@ class SilentItemWriter {
   SilentItemWriter(int domain, const std::string& uuid, const std::string& interface_id)
       : participant_(domain, qos::participant_qos({})),
         publisher_(participant_, {topics::device_partition(uuid)}) {
-    participant_.register_type(fdds::TypeSupport(new idl::InteractionSamplePubSubType()));
+    participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
     topic_ = std::make_unique<Topic>(participant_, topics::kInteractionResponse,
                                      "mtc::idl::InteractionSample",
                                      qos::state_topic().topic_qos());

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -102,7 +103,7 @@ class Peer {
   fdds::Topic* topic_ = nullptr;
   fdds::DataWriter* writer_ = nullptr;
   QuietWriterListener wl_;
-  fdds::TypeSupport type_{new mtc::idl::InterfaceStateSamplePubSubType()};
+  fdds::TypeSupport type_ = mtc::idl::type_support<mtc::idl::InterfaceStateSamplePubSubType>();
 };
 
 mtc::qos::ParticipantConfig config(mtc::qos::Transport t) {

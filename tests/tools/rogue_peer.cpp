@@ -9,6 +9,7 @@
 #include "mtc/dds/entities.hpp"
 #include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -83,7 +84,7 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
                      core::Service service, core::SubType own_side, const std::string& counterpart)
     : impl_(std::make_unique<Impl>(domain, device, rogue_timing())) {
   auto& i = *impl_;
-  fdds::TypeSupport type(new idl::InteractionSamplePubSubType());
+  fdds::TypeSupport type = idl::type_support<idl::InteractionSamplePubSubType>();
   i.participant.register_type(type);
   const bool request = own_side == core::SubType::Request;
   i.topic = std::make_unique<dds::Topic>(

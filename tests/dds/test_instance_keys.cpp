@@ -1,0 +1,136 @@
+// Each data item an Equipment publishes is one DDS instance, for the whole
+// run. Before mtc::idl::type_support, one key reached readers under several
+// instance handles (stale padding hashed into the key), and every stray
+// instance kept an old sample in the writer's history for good.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <mutex>
+#include <set>
+#include <string>
+
+#include <fastrtps/xmlparser/XMLProfileManager.h>
+
+#include "equipment_fixture.hpp"
+#include "mtc/dds/entities.hpp"
+#include "mtc/dds/topics.hpp"
+#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
+#include "mtc/qos/participant.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace mtc::dds::testing {
+namespace {
+
+using core::InterfaceType;
+using eprosima::fastrtps::rtps::InstanceHandle_t;
+
+constexpr int kDomain = 57;
+
+// Every instance handle under which each (device, data item) arrives.
+class HandleCounter : public fdds::DataReaderListener {
+ public:
+  void on_data_available(fdds::DataReader* reader) override {
+    idl::InteractionSample s;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&s, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto& seen = items_[s.device_uuid().to_string() + "/" + s.data_item_id().to_string()];
+      seen.handles.insert(info.instance_handle);
+      ++seen.samples;
+      cv_.notify_all();
+    }
+  }
+  // Until `count` items have each arrived `samples` times.
+  bool wait_for(std::size_t count, int samples) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, kTimeout, [&] {
+      std::size_t ready = 0;
+      for (const auto& [key, seen] : items_) ready += seen.samples >= samples ? 1 : 0;
+      return ready >= count;
+    });
+  }
+  struct Seen {
+    std::set<InstanceHandle_t> handles;
+    int samples = 0;
+  };
+  std::map<std::string, Seen> items() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return items_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::map<std::string, Seen> items_;
+};
+
+InstanceHandle_t spec_handle(const std::string& key) {
+  const auto slash = key.find('/');
+  idl::InteractionSample s;
+  s.device_uuid(key.substr(0, slash));
+  s.data_item_id(key.substr(slash + 1));
+  InstanceHandle_t h;
+  idl::compute_key_hash(s, h, false);
+  return h;
+}
+
+// As between processes: with intra-process delivery a reader gets the
+// writer's handle along with the sample and never hashes a key itself, and
+// it is hashing other devices' keys that left stale bytes for our own.
+void deliver_through_transports() {
+  eprosima::fastrtps::LibrarySettingsAttributes settings;
+  settings.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(settings);
+}
+
+TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
+  deliver_through_transports();
+  // Device uuids and interface ids of different lengths: the stale bytes a
+  // key hash used to pick up differed with the key hashed before it.
+  Equipment cnc(options(kDomain, "c"));
+  Equipment robot(options(kDomain, "robot-with-a-longer-uuid"));
+  cnc.add_interface({"mh", InterfaceType::MaterialHandler, "", {"robot-with-a-longer-uuid", "mh"}});
+  cnc.add_interface({"door_one", InterfaceType::Door, "", {"robot-with-a-longer-uuid", "door_one"}});
+  robot.add_interface({"mh", InterfaceType::MaterialHandler, "", {"c", "mh"}});
+  robot.add_interface({"door_one", InterfaceType::Door, "", {"c", "door_one"}});
+  auto& load = cnc.add_requester("mh", Service::MaterialLoad);
+  auto& unload = cnc.add_requester("mh", Service::MaterialUnload);
+  robot.add_requester("door_one", Service::OpenDoor);
+  ResponderCallbacks complete_at_once;
+  complete_at_once.on_request = [](Responder& r) { r.complete(); };
+  robot.add_responder("mh", Service::MaterialLoad, complete_at_once);
+  robot.add_responder("mh", Service::MaterialUnload, complete_at_once);
+  cnc.add_responder("door_one", Service::OpenDoor, complete_at_once);
+
+  Participant participant(kDomain, qos::participant_qos({}));
+  participant.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
+  Topic request(participant, topics::kInteractionRequest, "mtc::idl::InteractionSample",
+                qos::state_topic().topic_qos());
+  Topic response(participant, topics::kInteractionResponse, "mtc::idl::InteractionSample",
+                 qos::state_topic().topic_qos());
+  Subscriber subscriber(participant, {topics::kAllDevicesPartition});
+  HandleCounter counter;
+  Reader request_reader(subscriber, request, qos::state_topic().reader_qos(), &counter);
+  Reader response_reader(subscriber, response, qos::state_topic().reader_qos(), &counter);
+
+  cnc.start();
+  robot.start();
+  RequestOptions wait;
+  wait.wait_for_ready = kTimeout;
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed);
+    ASSERT_EQ(unload.request(wait).get().outcome, Outcome::Completed);
+  }
+  // Six interaction items, each re-published every heartbeat (100 ms).
+  ASSERT_TRUE(counter.wait_for(6, 20));
+  for (const auto& [key, seen] : counter.items()) {
+    ASSERT_EQ(seen.handles.size(), 1u) << key << " arrived under " << seen.handles.size()
+                                      << " instance handles";
+    EXPECT_EQ(*seen.handles.begin(), spec_handle(key)) << key;
+  }
+}
+
+}  // namespace
+}  // namespace mtc::dds::testing
