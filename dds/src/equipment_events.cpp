@@ -202,8 +202,8 @@ bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
 // Fast DDS 2.9 keeps one timer per reader and reports whichever instance owns
 // it without re-checking that instance's deadline, an instance that stops
 // receiving samples (a departed writer's, one of a device we do not talk to)
-// re-fires every period forever, and instance handles are not a reliable key
-// between processes (see KeyGuardedType in domain_tap.cpp). What makes a link
+// re-fires every period forever, and a peer of another implementation may
+// hash keys differently from us (ours: mtc::idl::type_support). What makes a link
 // lost is its counterpart interface being silent for about a lease; every
 // item of an interface is re-published on each heartbeat, so its freshest
 // reception is the measure. Half a heartbeat of slack absorbs the gap

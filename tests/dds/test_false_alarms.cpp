@@ -2,9 +2,9 @@
 // counterpart interface keeps heartbeating. Fast DDS 2.9 reports whichever
 // instance owns a reader's single deadline timer and re-fires every period
 // for an instance that stopped receiving samples; between processes,
-// instance handles of one key also varied (a race on the type's key buffer),
-// leaving stale instances behind. Either way a silent instance of the
-// counterpart device used to fail a healthy link every lease.
+// instance handles of one key also varied (stale padding hashed into the key,
+// docs/endurance.md), leaving stale instances behind. Either way a silent
+// instance of the counterpart device used to fail a healthy link every lease.
 #include <gtest/gtest.h>
 
 #include <atomic>
