@@ -52,8 +52,9 @@ show() {
   head -c 2000 <<<"$err" >&2
 }
 
-# A result line of a benchmark ({"benchmark":...}) means it ran.
-ran_a_benchmark() { grep -q '^{"benchmark"' <<<"$out"; }
+# A result line of a benchmark ({"benchmark":...}, perhaps after the colour
+# codes of Google Benchmark's table) means it ran.
+ran_a_benchmark() { grep -Eq $'^(\e\\[[0-9;]*m)*\\{"benchmark"' <<<"$out"; }
 
 check_help() {  # check_help <args before --help...>
   local what="${*:+$* }--help"
