@@ -7,9 +7,12 @@
 #   dds_latency.json     mtc-bench-dds-latency: raw Fast DDS vs transition vs handshake
 #   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
 #
-#   benchmarks/run.sh [--no-build] [--quick]
-# --quick: fewer samples, for a smoke run. Benchmarks that are not built are
-# reported and skipped; any benchmark that fails makes the exit code 1.
+# Usage: benchmarks/run.sh [--no-build] [--quick]
+#   --no-build  use the build as it is (default: scripts/build.sh first)
+#   --quick     fewer samples, for a smoke run
+# Environment: MTC_BUILD_DIR (default <repo>/build), MTC_BENCH_RESULTS (default
+# <repo>/bench-results). Benchmarks that are not built are reported and skipped;
+# any benchmark that fails makes the exit code 1.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
@@ -17,14 +20,15 @@ out="${MTC_BENCH_RESULTS:-$root/bench-results}"
 bin="$build/benchmarks"
 netns="$root/scripts/netns-run.sh"
 
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 build_first=1
 quick=0
 for arg in "$@"; do
   case "$arg" in
     --no-build) build_first=0 ;;
     --quick) quick=1 ;;
-    -h|--help) sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "run.sh: unknown option $arg" >&2; exit 2 ;;
+    -h|--help) usage; exit 0 ;;
+    *) echo "run.sh: unknown option '$arg'" >&2; usage >&2; exit 2 ;;
   esac
 done
 

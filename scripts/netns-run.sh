@@ -1,9 +1,18 @@
 #!/usr/bin/env bash
 # Runs a command inside a private network namespace whose only interface is
 # loopback, with multicast routed to lo so DDS discovery works there and
-# nowhere else. Root uses `unshare -n`; others try a user namespace.
-#   scripts/netns-run.sh <command> [args...]
+# nowhere else. Root uses `unshare -n`; others try a user namespace. Inside
+# one already (MTC_IN_NETNS=1), it runs the command as it is.
+#
+# Usage: scripts/netns-run.sh <command> [args...]
 set -euo pipefail
+
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
+case "${1:-}" in
+  -h | --help) usage; exit 0 ;;
+  "") echo "netns-run.sh: no command given" >&2; usage >&2; exit 2 ;;
+  -*) echo "netns-run.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
+esac
 
 if [ "${MTC_IN_NETNS:-}" = "1" ]; then
   exec "$@"

@@ -1,7 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian bookworm packages the build, the tests and the tools
 # need. Root installs with apt-get; anyone else gets the exact command to run.
+#
+# Usage: scripts/setup-deps.sh
 set -euo pipefail
+
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
+case "${1:-}" in
+  -h | --help) usage; exit 0 ;;
+  "") ;;
+  *) echo "setup-deps.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
+esac
 
 PACKAGES=(
   build-essential cmake pkg-config

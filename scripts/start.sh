@@ -3,13 +3,16 @@
 # (machine tool, robot, bar feeder: apps/cell) and the MTConnect bridge
 # together inside one private, loopback-only network namespace.
 #
+# Usage:
 #   ./scripts/start.sh [--no-build] [--port N] [--domain D] [cell options]
-#                                      run the cell and the bridge (Ctrl-C stops both)
+#                                      run the cell and the bridge (Ctrl-C stops both);
+#                                      bridge port default 5000, DDS domain default 110
 #   ./scripts/start.sh --query PATH    from another terminal: GET PATH from the running bridge
 #   ./scripts/start.sh --enter [CMD]   from another terminal: a shell (or CMD) inside the namespace
 #
-# Cell options go to mtc-cell: --cycles N, --duration S, --seed N,
-# --fail-every K, --pace-ms MS (see `build/apps/mtc-cell --help`).
+# Cell options go to mtc-cell: --cycles N, --duration S, --seed N, --fail-every K,
+# --pace-ms MS, --comms-loss-every S, --heartbeat-ms MS, --missed-heartbeats N
+# (the bridge gets these two as well), --threads (see `build/apps/mtc-cell --help`).
 # The namespace has no route to anything but itself, so a browser outside it
 # cannot reach the bridge: --query and --enter step into it with nsenter.
 set -euo pipefail
@@ -24,7 +27,7 @@ port_file="$state/mtc-cell.port"
 domain=110                            # DDS domain of the cell (ids 100-119: cell and benchmarks)
 port=5000
 
-usage() { sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 
 # Prints the pid of a process in the running cell's namespace, or fails.
 cell_ns_pid() {
@@ -74,16 +77,23 @@ cell_args=()
 # with the reader's own lease). mtc-cell defaults: 100 ms x 3.
 heartbeat_ms=100
 missed_heartbeats=3
+usage_error() { echo "start.sh: $*" >&2; usage >&2; exit 2; }
+need_value() { [ $# -ge 2 ] || usage_error "$1 needs a value"; }
 while [ $# -gt 0 ]; do
   case "$1" in
+    -h | --help) usage; exit 0 ;;
     --no-build) build_first=0; shift ;;
-    --heartbeat-ms) heartbeat_ms="${2:?--heartbeat-ms needs a value}"; cell_args+=("$1" "$2"); shift 2 ;;
+    --heartbeat-ms) need_value "$@"; heartbeat_ms="$2"; cell_args+=("$1" "$2"); shift 2 ;;
     --missed-heartbeats)
-      missed_heartbeats="${2:?--missed-heartbeats needs a value}"; cell_args+=("$1" "$2"); shift 2 ;;
-    --port) port="${2:?--port needs a value}"; shift 2 ;;
-    --domain) domain="${2:?--domain needs a value}"; shift 2 ;;
+      need_value "$@"; missed_heartbeats="$2"; cell_args+=("$1" "$2"); shift 2 ;;
+    --port) need_value "$@"; port="$2"; shift 2 ;;
+    --domain) need_value "$@"; domain="$2"; shift 2 ;;
     --inner) shift ;;  # set by the re-exec below
-    *) cell_args+=("$1"); shift ;;
+    # mtc-cell checks the values; an unknown option stops here, before a build.
+    --cycles | --duration | --seed | --fail-every | --pace-ms | --comms-loss-every)
+      need_value "$@"; cell_args+=("$1" "$2"); shift 2 ;;
+    --threads) cell_args+=("$1"); shift ;;
+    *) usage_error "unknown option '$1'" ;;
   esac
 done
 

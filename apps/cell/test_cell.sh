@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # CTest driver for the simulated cell (registered in apps/cell/CMakeLists.txt).
+# Usage:
 #   test_cell.sh local  <mtc-cell>                 scripts over the in-memory link
 #   test_cell.sh dds    <mtc-cell> <domain>        3 processes over DDS, bounded run
 #   test_cell.sh sigint <mtc-cell> <domain>        Ctrl-C stops every station, exit 0
@@ -7,7 +8,18 @@
 # Runs inside the loopback-only namespace (the CMake entry wraps it in
 # scripts/netns-run.sh, which is a no-op when ctest already runs inside one).
 set -uo pipefail
-mode="$1"
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
+mode="${1:-}"
+case "$mode" in
+  -h | --help) usage; exit 0 ;;
+  local) arguments=2 ;;
+  dds | sigint) arguments=3 ;;
+  start) arguments=4 ;;
+  *) echo "test_cell.sh: unknown mode or option '$mode'" >&2; usage >&2; exit 2 ;;
+esac
+if [ $# -ne "$arguments" ]; then
+  echo "test_cell.sh: $mode takes $((arguments - 1)) argument(s)" >&2; usage >&2; exit 2
+fi
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 log="$(mktemp)"
@@ -102,8 +114,5 @@ case "$mode" in
       grep -q "$needle" <<<"$current" || { echo "$current" >>"$log"; fail "/current lacks $needle"; }
     done
     expect "cell stopped \(exit code 0\)" "start.sh reporting a clean stop" ;;
-  *)
-    echo "usage: test_cell.sh local|dds|sigint|start ..." >&2
-    exit 2 ;;
 esac
 echo "ok: $mode"

@@ -36,14 +36,16 @@ struct Options {
 
 enum class Parsed { Run, Help, Bad };
 
-Parsed parse(int argc, char** argv, Options& o) {
+// On Parsed::Bad, `bad` holds the argument at fault.
+Parsed parse(int argc, char** argv, Options& o, std::string_view& bad) {
   for (int i = 1; i < argc; ++i) {
     const std::string_view arg = argv[i];
+    bad = arg;
     const bool has_value = i + 1 < argc;
     if (arg == "--help" || arg == "-h") {
       return Parsed::Help;
     } else if (arg == "--profile" && has_value) {
-      const std::string_view v = argv[++i];
+      const std::string_view v = bad = argv[++i];
       if (v == "1.6" || v == "1.8") {
         o.v13 = false;
       } else if (v == "1.3") {
@@ -53,7 +55,7 @@ Parsed parse(int argc, char** argv, Options& o) {
         return Parsed::Bad;
       }
     } else if (arg == "--scenario" && has_value) {
-      const std::string_view v = argv[++i];
+      const std::string_view v = bad = argv[++i];
       if (v == "all") continue;
       if (v.size() != 1 || v[0] < '0' || v[0] > '7') return Parsed::Bad;
       o.scenario = v[0] - '0';
@@ -74,11 +76,14 @@ void play(const mtc::demo::Scenario& s, Profile p) {
 
 int main(int argc, char** argv) {
   Options o;
-  switch (parse(argc, argv, o)) {
+  std::string_view bad;
+  switch (parse(argc, argv, o, bad)) {
     case Parsed::Help:
       usage(stdout);
       return 0;
     case Parsed::Bad:
+      std::fprintf(stderr, "mtc-interaction-demo: unknown option, missing or bad value: '%.*s'\n\n",
+                   static_cast<int>(bad.size()), bad.data());
       usage(stderr);
       return 2;
     case Parsed::Run:

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mtc/bench/gbench_cli.hpp"
 #include "mtc/bridge/mtconnect_agent.hpp"
 
 namespace {
@@ -39,7 +40,8 @@ std::unique_ptr<MtconnectAgent> make_cell() {
     mh.id = std::string(n) + "_mh";
     mh.type = core::InterfaceType::MaterialHandler;
     const std::string p = std::string(n) + ".";
-    mh.data_items = {item(p + "state", "INTERFACE_STATE"), item(p + "load", "MATERIAL_LOAD", "REQUEST"),
+    mh.data_items = {item(p + "state", "INTERFACE_STATE"),
+                     item(p + "load", "MATERIAL_LOAD", "REQUEST"),
                      item(p + "unload", "MATERIAL_UNLOAD", "REQUEST"),
                      item(p + "open_door", "OPEN_DOOR", "RESPONSE"),
                      item(p + "close_door", "CLOSE_DOOR", "RESPONSE"),
@@ -153,10 +155,24 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   std::vector<std::pair<std::string, double>> results_;
 };
 
+constexpr const char* kAbout =
+    "Render and ingest cost of the bridge's MTConnect agent alone (no HTTP, no DDS), on\n"
+    "a cell of 3 devices with one MaterialHandler interface each (1.6 documents):\n"
+    "/current cached and after a change, /current?path=, /sample?count=100,\n"
+    "/current?at= in a full buffer, /probe, ingest of a change and of a heartbeat.\n"
+    "Output on stdout: Google Benchmark's table, then one JSON summary line\n"
+    "  {\"benchmark\":\"bridge_agent\",...,\n"
+    "   \"results\":[{\"name\",\"ns_per_op\",\"ops_per_s\"},...]}\n"
+    "in wall-clock ns per operation. benchmarks/run.sh keeps the library's JSON\n"
+    "(--benchmark_out) in bench-results/bridge_agent.json.";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
+  if (const auto exit_code =
+          mtc::bench::initialize_google_benchmark(&argc, argv, "mtc-bench-bridge-agent", kAbout)) {
+    return *exit_code;
+  }
   SummaryReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   reporter.print_json();

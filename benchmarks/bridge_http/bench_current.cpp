@@ -3,9 +3,8 @@
 // connections while a feeder changes values (so /current is re-rendered,
 // not only served from the agent's cache).
 //
-//   scripts/netns-run.sh build/benchmarks/mtc-bench-bridge-current
-//       [--duration 10] [--connections 8] [--wrk-threads 1] [--io-threads 1]
-//       [--feed-hz 100] [--target /current]
+//   scripts/netns-run.sh build/benchmarks/mtc-bench-bridge-current [options]
+//   (--help lists them with their defaults)
 //
 // Bar (README): >= 20,000 req/s on 2 cores with `wrk -t1 -c8`, p99 < 1 ms.
 #include <sys/resource.h>
@@ -19,6 +18,7 @@
 #include <thread>
 
 #include "demo_cell.hpp"
+#include "mtc/bench/cli.hpp"
 
 namespace {
 
@@ -101,26 +101,65 @@ std::string run(const std::string& command) {
   return output;
 }
 
+struct Options {
+  int duration = 10;
+  int connections = 8;
+  int wrk_threads = 1;
+  int io_threads = 1;
+  int feed_hz = 100;
+  std::string target = "/current";
+  std::string devices = MTC_DEMO_DEVICES;
+};
+
+constexpr const char* kAbout =
+    "Throughput and latency of the bridge's HTTP server answering GET requests (by\n"
+    "default /current) for the demo cell, driven by wrk over keep-alive connections on\n"
+    "loopback while a feeder changes values (so /current is re-rendered, not only\n"
+    "served from the agent's cache). Needs wrk; runs inside the loopback-only\n"
+    "namespace (scripts/netns-run.sh). wrk's report goes to stderr, one JSON summary\n"
+    "line to stdout:\n"
+    "  {\"benchmark\":\"bridge_http_current\",\"requests_per_second\",\n"
+    "   \"latency_us\":{p50,p75,p90,p99},\"server_cpu_us_per_request\",\"meets_bar\",...}\n"
+    "(bar: >= 20,000 req/s, p99 < 1 ms, no non-2xx). benchmarks/bridge_http/run.sh\n"
+    "collects it in <build>/benchmarks/bridge_http.json.";
+
+// Usage errors -> exit code; nullopt to run.
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  mtc::bench::Cli cli("mtc-bench-bridge-current", kAbout);
+  cli.integer("--duration", o.duration, 1, 3600, "seconds wrk runs")
+      .integer("--connections", o.connections, 1, 10000, "wrk's open connections (-c)")
+      .integer("--wrk-threads", o.wrk_threads, 1, 64, "wrk's threads (-t)")
+      .integer("--io-threads", o.io_threads, 1, 64, "the HTTP server's io threads")
+      .integer("--feed-hz", o.feed_hz, 0, 100000, "values fed into the agent per second, 0 = none")
+      .text("--target", "PATH", o.target, "the request path wrk sends")
+      .text("--devices", "FILE", o.devices, "MTConnect Devices file of the demo cell");
+  if (const auto exit_code = cli.parse(argc, argv)) {
+    return exit_code;
+  }
+  if (o.target.front() != '/') {
+    return cli.usage_error("--target expects a path starting with '/', got '" + o.target + "'");
+  }
+  if (o.connections < o.wrk_threads) {
+    return cli.usage_error("--connections must be at least --wrk-threads (wrk's rule)");
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
-  const int duration = std::stoi(arg(argc, argv, "--duration", "10"));
-  const int connections = std::stoi(arg(argc, argv, "--connections", "8"));
-  const int wrk_threads = std::stoi(arg(argc, argv, "--wrk-threads", "1"));
-  const unsigned io_threads =
-      static_cast<unsigned>(std::stoi(arg(argc, argv, "--io-threads", "1")));
-  const int feed_hz = std::stoi(arg(argc, argv, "--feed-hz", "100"));
-  const std::string target = arg(argc, argv, "--target", "/current");
-  const std::string devices = arg(argc, argv, "--devices", MTC_DEMO_DEVICES);
-
-  DemoCell cell(devices, io_threads);
+  Options o;
+  if (const auto exit_code = parse_options(argc, argv, o)) {
+    return *exit_code;
+  }
+  DemoCell cell(o.devices, static_cast<unsigned>(o.io_threads));
   std::atomic<bool> feeding{true};
   std::atomic<long long> fed{0};
   std::thread feeder([&] {
-    if (feed_hz <= 0) {
+    if (o.feed_hz <= 0) {
       return;
     }
-    const auto period = std::chrono::nanoseconds(1000000000LL / feed_hz);
+    const auto period = std::chrono::nanoseconds(1000000000LL / o.feed_hz);
     auto next = std::chrono::steady_clock::now();
     for (std::size_t i = 0; feeding; ++i) {
       cell.feed_next(i);
@@ -131,8 +170,8 @@ int main(int argc, char** argv) try {
   });
 
   std::ostringstream command;
-  command << "wrk -t" << wrk_threads << " -c" << connections << " -d" << duration
-          << "s --latency http://127.0.0.1:" << cell.port() << target << " 2>&1";
+  command << "wrk -t" << o.wrk_threads << " -c" << o.connections << " -d" << o.duration
+          << "s --latency http://127.0.0.1:" << cell.port() << o.target << " 2>&1";
   const double cpu_before = cpu_seconds();
   const std::string output = run(command.str());
   const double cpu_used = cpu_seconds() - cpu_before;
@@ -141,10 +180,10 @@ int main(int argc, char** argv) try {
   std::cerr << output;
 
   const WrkResult r = parse_wrk(output);
-  std::cout << "{\"benchmark\":\"bridge_http_current\",\"target\":\"" << target
-            << "\",\"wrk_threads\":" << wrk_threads << ",\"connections\":" << connections
-            << ",\"duration_s\":" << duration << ",\"io_threads\":" << io_threads
-            << ",\"feed_hz\":" << feed_hz << ",\"values_fed\":" << fed.load()
+  std::cout << "{\"benchmark\":\"bridge_http_current\",\"target\":\"" << o.target
+            << "\",\"wrk_threads\":" << o.wrk_threads << ",\"connections\":" << o.connections
+            << ",\"duration_s\":" << o.duration << ",\"io_threads\":" << o.io_threads
+            << ",\"feed_hz\":" << o.feed_hz << ",\"values_fed\":" << fed.load()
             << ",\"data_items\":" << cell.items().size() << ",\"requests\":" << r.requests
             << ",\"requests_per_second\":" << r.requests_per_second
             << ",\"latency_us\":{\"p50\":" << r.p50_us << ",\"p75\":" << r.p75_us

@@ -103,13 +103,4 @@ LatencySummary summarize(std::vector<std::chrono::nanoseconds> samples) {
   return s;
 }
 
-std::string arg(int argc, char** argv, const std::string& name, const std::string& fallback) {
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (argv[i] == name) {
-      return argv[i + 1];
-    }
-  }
-  return fallback;
-}
-
 }  // namespace mtc::bridge::bench

@@ -50,7 +50,4 @@ struct LatencySummary {
 };
 LatencySummary summarize(std::vector<std::chrono::nanoseconds> samples);
 
-// "--name value" from argv, or the fallback.
-std::string arg(int argc, char** argv, const std::string& name, const std::string& fallback);
-
 }  // namespace mtc::bridge::bench

@@ -1,9 +1,20 @@
 #!/usr/bin/env bash
-# Runs the bridge HTTP benchmarks inside the loopback-only namespace and
-# writes their JSON summaries to <build>/benchmarks/bridge_http.json.
-#   benchmarks/bridge_http/run.sh [build-dir]
+# Runs the bridge HTTP benchmarks (mtc-bench-bridge-current, -stream and,
+# when built, -dds-stream) inside the loopback-only namespace; their JSON
+# summaries, one line each, go to stdout and to <build>/benchmarks/bridge_http.json.
+#
+# Usage: benchmarks/bridge_http/run.sh [build-dir]
+#   build-dir  default $MTC_BUILD_DIR, else <repo>/build
+# Environment: MTC_BENCH_SECONDS (wrk run, default 10), MTC_BENCH_SAMPLES
+# (streaming samples, default 2000; 1000 for -dds-stream).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
+case "${1:-}" in
+  -h | --help) usage; exit 0 ;;
+  -*) echo "run.sh: unknown option '$1'" >&2; usage >&2; exit 2 ;;
+esac
+[ $# -le 1 ] || { echo "run.sh: one build directory at most" >&2; usage >&2; exit 2; }
 build="${1:-${MTC_BUILD_DIR:-$root/build}}"
 bin="$build/benchmarks"
 out="$bin/bridge_http.json"

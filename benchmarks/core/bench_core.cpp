@@ -1,6 +1,7 @@
 // mtc-bench-core: nanoseconds per state-machine step and per whole Table 1
-// handshake in mtc::core. Prints Google Benchmark's table (or JSON with
-// --benchmark_format=json) and always ends with one JSON summary line:
+// handshake in mtc::core. Prints Google Benchmark's table and always ends
+// with one JSON summary line (Google Benchmark's own JSON goes to the file
+// named by --benchmark_out=FILE):
 //   {"benchmark":"core","transition_ns":...,"observation_ns":...,
 //    "handshake_ns":...,"fail_recover_ns":...,"interface_tick_ns":...}
 #include <benchmark/benchmark.h>
@@ -9,6 +10,7 @@
 #include <map>
 #include <string>
 
+#include "mtc/bench/gbench_cli.hpp"
 #include "mtc/core/interface_model.hpp"
 
 namespace {
@@ -126,11 +128,24 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   std::map<std::string, double> ns_;
 };
 
+constexpr const char* kAbout =
+    "CPU time of the pure interaction model (mtc::core, no DDS): one state-machine\n"
+    "transition, one counterpart observation, a whole Table 1 handshake (8 steps),\n"
+    "a failure and its recovery, an idle tick of an interface with ten services.\n"
+    "Output on stdout: Google Benchmark's table, then one JSON summary line\n"
+    "  {\"benchmark\":\"core\",\"transition_ns\":...,\"observation_ns\":...,\n"
+    "   \"handshake_ns\":...,\"fail_recover_ns\":...,\"interface_tick_ns\":...}\n"
+    "in CPU ns per step for transition and observation, per whole loop for the\n"
+    "others, -1 for one that did not run. benchmarks/run.sh keeps the library's\n"
+    "JSON (--benchmark_out) in bench-results/core.json.";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  if (const auto exit_code =
+          mtc::bench::initialize_google_benchmark(&argc, argv, "mtc-bench-core", kAbout)) {
+    return *exit_code;
+  }
   SummaryReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   std::printf(

@@ -15,12 +15,14 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "equipment_latency.hpp"
+#include "mtc/bench/cli.hpp"
 #include "raw_pingpong.hpp"
 
 namespace {
@@ -52,68 +54,49 @@ struct Options {
   int domain = 100;
 };
 
-void usage() {
-  std::cerr << "usage: mtc-bench-dds-latency [--samples N] [--warmup N] [--handshakes N]\n"
-               "                              [--rounds N] [--only raw|equipment] [--out FILE]\n"
-               "Runs inside the loopback-only namespace (scripts/netns-run.sh).\n";
-}
+constexpr const char* kAbout =
+    "Raw Fast DDS round trips beside the project's own transition and handshake\n"
+    "latencies, measured in one run on one machine: each series with both ends in one\n"
+    "process and with the peer in a second process (this executable started again),\n"
+    "over UDP loopback and over SHM+UDP; every series in --rounds rounds interleaved\n"
+    "with the others, samples pooled. DDS domains 100-106: runs inside the\n"
+    "loopback-only namespace (benchmarks/run.sh does that). Progress on stderr; one\n"
+    "JSON object on stdout and, with --out, in FILE:\n"
+    "  {\"benchmark\":\"dds_latency\",\"unit\":\"us\",...,\n"
+    "   \"series\":[{name,p50,p90,p99,max,...},...]}\n"
+    "(benchmarks/run.sh: bench-results/dds_latency.json, plotted to dds_latency.png).";
 
-bool parse_int(const char* text, int& out) {
-  char* end = nullptr;
-  const long v = std::strtol(text, &end, 10);
-  if (end == text || *end != '\0' || v < 0 || v > 10000000) {
-    return false;
+// Usage errors -> exit code; nullopt to run.
+std::optional<int> parse_args(int argc, char** argv, Options& o) {
+  std::string only;
+  std::string transport = mtc::bench::to_string(o.transport);
+  mtc::bench::Cli cli("mtc-bench-dds-latency", kAbout);
+  cli.integer("--samples", o.samples, 1, 10000000,
+              "raw round trips per series, split over the rounds")
+      .integer("--warmup", o.warmup, 0, 10000000,
+               "untimed round trips before each raw series in\nevery round")
+      .integer("--handshakes", o.handshakes, 1, 10000000,
+               "handshakes per equipment series, split over the\nrounds")
+      .integer("--rounds", o.rounds, 1, 1000, "rounds the series are interleaved in")
+      .choice("--only", only, {"raw", "equipment"}, "measure only these series (default both)")
+      .text("--out", "FILE", o.out, "also write the JSON to FILE (default stdout only)")
+      .internal_options_follow()
+      .flag("--peer", o.peer, "be the raw ping-pong peer")
+      .flag("--equipment-peer", o.equipment_peer, "be the responder equipment peer")
+      .choice("--transport", transport, {"udp_loopback", "shm_udp", "udp", "shm"},
+              "the peer's transport")
+      .integer("--domain", o.domain, 0, 232, "the peer's DDS domain");
+  if (const auto exit_code = cli.parse(argc, argv)) {
+    return exit_code;
   }
-  out = static_cast<int>(v);
-  return true;
-}
-
-bool parse_args(int argc, char** argv, Options& o) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "--peer") {
-      o.peer = true;
-    } else if (a == "--equipment-peer") {
-      o.equipment_peer = true;
-    } else if (a == "--samples" && has_value) {
-      if (!parse_int(argv[++i], o.samples) || o.samples == 0) {
-        return false;
-      }
-    } else if (a == "--rounds" && has_value) {
-      if (!parse_int(argv[++i], o.rounds) || o.rounds == 0) {
-        return false;
-      }
-    } else if (a == "--warmup" && has_value) {
-      if (!parse_int(argv[++i], o.warmup)) {
-        return false;
-      }
-    } else if (a == "--handshakes" && has_value) {
-      if (!parse_int(argv[++i], o.handshakes) || o.handshakes == 0) {
-        return false;
-      }
-    } else if (a == "--domain" && has_value) {
-      if (!parse_int(argv[++i], o.domain) || o.domain > 232) {
-        return false;
-      }
-    } else if (a == "--transport" && has_value) {
-      if (!mtc::bench::parse_transport(argv[++i], o.transport)) {
-        return false;
-      }
-    } else if (a == "--out" && has_value) {
-      o.out = argv[++i];
-    } else if (a == "--only" && has_value) {
-      const std::string what = argv[++i];
-      if (what != "raw" && what != "equipment") {
-        return false;
-      }
-      o.raw = what == "raw";
-      o.equipment = what == "equipment";
-    } else {
-      return false;
-    }
+  if (!only.empty()) {
+    o.raw = only == "raw";
+    o.equipment = only == "equipment";
   }
-  return true;
+  if (!mtc::bench::parse_transport(transport, o.transport)) {
+    return cli.usage_error("--transport: no such transport '" + transport + "'");
+  }
+  return std::nullopt;
 }
 
 int run_peer(const Options& o) {
@@ -264,9 +247,8 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  if (!parse_args(argc, argv, o)) {
-    usage();
-    return 2;
+  if (const auto exit_code = parse_args(argc, argv, o)) {
+    return *exit_code;
   }
   try {
     if (o.equipment_peer) {

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """Plots the summary of mtc-bench-dds-latency (or any JSON with a "series"
 list of {name, p50, p90, p99, max}) as a PNG with gnuplot, or as an SVG
-written here when gnuplot is absent. Standard library only.
-
-    plot_latency.py <summary.json> <output-stem>   -> <stem>.png or <stem>.svg
+written here when gnuplot is absent. Standard library only. Prints the path
+of the file it wrote.
 """
+import argparse
 import json
 import shutil
 import subprocess
@@ -125,15 +125,25 @@ def write_svg(summary, stem):
 
 
 def main(argv):
-    if len(argv) != 3:
-        print(__doc__.strip(), file=sys.stderr)
-        return 2
-    with open(argv[1]) as f:
-        summary = json.load(f)
-    if not summary.get("series"):
-        print("plot_latency.py: no series in %s" % argv[1], file=sys.stderr)
+    parser = argparse.ArgumentParser(
+        prog="plot_latency.py", description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("summary", help="the JSON summary (mtc-bench-dds-latency --out FILE)")
+    parser.add_argument("stem", help="output path without extension: <stem>.png or <stem>.svg")
+    args = parser.parse_args(argv[1:])  # usage errors: exit 2
+    try:
+        with open(args.summary) as f:
+            summary = json.load(f)
+    except (OSError, ValueError) as error:
+        print("plot_latency.py: cannot read %s: %s" % (args.summary, error), file=sys.stderr)
         return 1
-    path = write_gnuplot(summary, argv[2]) if shutil.which("gnuplot") else write_svg(summary, argv[2])
+    if not isinstance(summary, dict) or not summary.get("series"):
+        print("plot_latency.py: no series in %s" % args.summary, file=sys.stderr)
+        return 1
+    if shutil.which("gnuplot"):
+        path = write_gnuplot(summary, args.stem)
+    else:
+        path = write_svg(summary, args.stem)
     print(path)
     return 0
 
