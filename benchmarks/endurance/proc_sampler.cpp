@@ -50,7 +50,7 @@ std::optional<ProcReading> read_proc(pid_t pid) {
   for (std::string word; fields >> word;) {
     field.push_back(word);
   }
-  if (field.size() < 22) {
+  if (field.size() < 22 || field[0] == "Z" || field[0] == "X") {  // gone, not yet reaped
     return std::nullopt;
   }
   static const double ticks = static_cast<double>(sysconf(_SC_CLK_TCK));

@@ -22,6 +22,8 @@ def read(pid):
     # The command name (field 2) may hold spaces and parentheses: split after
     # the last ')'. What follows starts at field 3 (state).
     fields = stat[stat.rindex(")") + 2:].split()
+    if fields[0] in ("Z", "X"):  # exited, not yet reaped: nothing left to measure
+        return None
     utime, stime = int(fields[11]), int(fields[12])  # fields 14, 15
     threads = int(fields[17])  # field 20
     rss_pages = int(fields[21])  # field 24
