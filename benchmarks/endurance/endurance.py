@@ -134,7 +134,7 @@ class Run:
         next_at = 0.0
         while True:
             now = self.t()
-            if now >= next_at:
+            if now >= next_at or self.cell.poll() is not None:
                 for s in self.series:
                     s.sample(self.t())
                 dead = [s.name for s in self.series if s.gone]
@@ -145,7 +145,11 @@ class Run:
                 if now >= end_s:
                     return True
                 next_at = min(next_at + self.args.interval, end_s)
-            time.sleep(max(0.0, min(next_at, end_s) - self.t()))
+            # Waiting on the cell: its death wakes the loop for a last sample.
+            try:
+                self.cell.wait(max(0.0, next_at - self.t()))
+            except subprocess.TimeoutExpired:
+                pass
 
     def _progress(self):
         line = "  %6.0f s " % self.t()
@@ -292,6 +296,8 @@ def main(argv):
         run.sample_until(args.minutes * 60)
     except RuntimeError as e:
         run.events.append(str(e))
+    except KeyboardInterrupt:
+        run.events.append("interrupted at %.0f s" % run.t())
     finally:
         codes = run.stop()
     result = report(args, run, codes, load_start)
