@@ -43,6 +43,7 @@ class StreamCheck:
         self.regression_count = 0
         self.errors = []
         self.per_minute = {}  # minute index -> observations received
+        self.unavailable_per_minute = {}
         self.ended_cleanly = False
         self._thread = None
 
@@ -117,16 +118,22 @@ class StreamCheck:
             return
         next_seq = int(header.get("nextSequence"))
         seqs = []
+        unavailable = 0
         for e in root.iter():
             s = e.get("sequence")
             if s is not None:
                 seqs.append(int(s))
-                if (e.text or "").strip() == "UNAVAILABLE":
-                    self.unavailable += 1
+                unavailable += (e.text or "").strip() == "UNAVAILABLE"
         seqs.sort()
         self.parts += 1
         minute = int((self.clock() - self.t0) // 60)
         self.per_minute[minute] = self.per_minute.get(minute, 0) + len(seqs)
+        # Items read UNAVAILABLE when the bridge loses a device: expected at
+        # the start and the stop, a false alarm of the bridge in between.
+        self.unavailable += unavailable
+        if unavailable:
+            self.unavailable_per_minute[minute] = (self.unavailable_per_minute.get(minute, 0)
+                                                   + unavailable)
         self._check_sequences(seqs, next_seq)
 
     def _check_sequences(self, seqs, next_seq):
@@ -178,6 +185,8 @@ class StreamCheck:
             "regressions": self.regression_count,
             "first_problems": self.gaps,
             "unavailable_values": self.unavailable,
+            "unavailable_values_per_minute": {str(m): n for m, n in
+                                              sorted(self.unavailable_per_minute.items())},
             "observations_per_minute": [self.per_minute.get(m, 0)
                                         for m in range(max(self.per_minute, default=-1) + 1)],
             "ended_with_final_boundary": self.ended_cleanly,

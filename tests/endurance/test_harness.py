@@ -78,7 +78,9 @@ class StreamSequences(unittest.TestCase):
         self.assertFalse(c.ok())
 
     def test_unavailable_values_are_counted(self):
-        self.assertEqual(checked(part(3, (1, "UNAVAILABLE"), (2, "READY"))).unavailable, 1)
+        c = checked(part(3, (1, "UNAVAILABLE"), (2, "READY")))
+        self.assertEqual(c.unavailable, 1)
+        self.assertEqual(c.summary()["unavailable_values_per_minute"], {"0": 1})
 
     def test_multipart_stream_is_split_by_content_length(self):
         a, b = part(2, (1, "READY")), part(3, (2, "ACTIVE"))
