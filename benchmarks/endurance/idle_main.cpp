@@ -26,11 +26,13 @@
 #include <iostream>
 #include <memory>
 #include <new>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "mtc/bench/cli.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "proc_sampler.hpp"
 
@@ -50,64 +52,39 @@ struct Options {
   std::string out;
 };
 
-void usage(std::ostream& out) {
-  out << "usage: mtc-bench-idle [options]\n"
-         "  --interfaces N   MATERIAL_HANDLER interfaces per equipment (default 100)\n"
-         "  --duration S     seconds measured once every link is up (default 600)\n"
-         "  --interval S     sampling period (default 10)\n"
-         "  --window S       first/last CPU window compared (default 60)\n"
-         "  --cpu-ratio R    largest last/first window CPU ratio that passes (default 1.5)\n"
-         "  --domain D       DDS domain id (default 116)\n"
-         "  --out FILE       also write the JSON summary there\n"
-         "  -h, --help       this text\n"
-         "Runs inside the loopback-only namespace (scripts/netns-run.sh).\n";
-}
+constexpr const char* kAbout =
+    "An equipment with N MATERIAL_HANDLER interfaces (a MATERIAL_LOAD requester each) and,\n"
+    "in a forked child, its counterpart with the responders, idling at the default 100 ms x 3\n"
+    "heartbeat. Once every link is up, both processes are sampled every interval (CPU, RSS,\n"
+    "open fds, threads, DDS values received per second). Progress and figures on stderr,\n"
+    "one JSON object on stdout (and in --out); benchmarks/endurance/plot.py draws it.\n"
+    "Exit 1 when the CPU of the last window exceeds --cpu-ratio x the first, a link was\n"
+    "lost or a process died. Runs inside the loopback-only namespace (scripts/netns-run.sh).";
 
-bool parse_int(const std::string& text, long min, long max, int& out) {
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || v < min || v > max) {
-    return false;
+// nullopt: go on with the run; otherwise the exit code (0 after --help, 2
+// after a usage error, both reported).
+std::optional<int> parse_args(int argc, char** argv, Options& o) {
+  std::string ratio = "1.5";
+  mtc::bench::Cli cli("mtc-bench-idle", kAbout);
+  cli.integer("--interfaces", o.interfaces, 1, 1000, "interfaces per equipment")
+      .integer("--duration", o.duration_s, 1, 86400, "seconds measured once every link is up")
+      .integer("--interval", o.interval_s, 1, 3600, "sampling period, seconds")
+      .integer("--window", o.window_s, 1, 86400, "first and last CPU window compared, seconds")
+      .text("--cpu-ratio", "R", ratio, "largest last/first window CPU ratio that passes")
+      .integer("--domain", o.domain, 0, 232, "DDS domain id")
+      .text("--out", "FILE", o.out, "also write the JSON summary there");
+  if (const auto exit_code = cli.parse(argc, argv)) {
+    return exit_code;
   }
-  out = static_cast<int>(v);
-  return true;
-}
-
-// Returns an error message, empty on success.
-std::string parse_args(int argc, char** argv, Options& o) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (i + 1 >= argc) {
-      return "unknown option or missing value: " + a;
-    }
-    const std::string v = argv[++i];
-    bool ok = false;
-    if (a == "--interfaces") {
-      ok = parse_int(v, 1, 1000, o.interfaces);
-    } else if (a == "--duration") {
-      ok = parse_int(v, 1, 86400, o.duration_s);
-    } else if (a == "--interval") {
-      ok = parse_int(v, 1, 3600, o.interval_s);
-    } else if (a == "--window") {
-      ok = parse_int(v, 1, 86400, o.window_s);
-    } else if (a == "--domain") {
-      ok = parse_int(v, 0, 232, o.domain);
-    } else if (a == "--cpu-ratio") {
-      char* end = nullptr;
-      o.cpu_ratio = std::strtod(v.c_str(), &end);
-      ok = !v.empty() && *end == '\0' && o.cpu_ratio > 1.0;
-    } else if (a == "--out") {
-      o.out = v;
-      ok = !v.empty();
-    }
-    if (!ok) {
-      return "bad option or value: " + a + " " + v;
-    }
+  char* end = nullptr;
+  o.cpu_ratio = std::strtod(ratio.c_str(), &end);
+  if (*end != '\0' || !(o.cpu_ratio > 1.0)) {
+    return cli.usage_error("--cpu-ratio expects a number above 1, got '" + ratio + "'");
   }
   if (o.window_s < o.interval_s || o.duration_s < 2 * o.window_s) {
-    return "need --window >= --interval and --duration >= 2 x --window";
+    return cli.usage_error("need --window >= --interval and --duration >= 2 x --window");
   }
-  return {};
+  return std::nullopt;
 }
 
 // What one side's callbacks count, in memory shared by both processes (an
@@ -388,19 +365,9 @@ int run(const Options& o, Shared& shared, pid_t child, const sigset_t& signals) 
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      usage(std::cout);
-      return 0;
-    }
-  }
   Options o;
-  const std::string error = parse_args(argc, argv, o);
-  if (!error.empty()) {
-    std::cerr << "mtc-bench-idle: " << error << "\n";
-    usage(std::cerr);
-    return 2;
+  if (const auto exit_code = parse_args(argc, argv, o)) {
+    return *exit_code;
   }
   Shared* shared = map_shared();
   if (shared == nullptr) {

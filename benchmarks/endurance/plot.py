@@ -1,9 +1,8 @@
 #!/usr/bin/env python3
-"""Plots CPU and RSS over time, one line per process, from the JSON of
+"""usage: plot.py <summary.json> <output.png>
+
+Plots CPU and RSS over time, one line per process, from the JSON of
 benchmarks/endurance (endurance.py or mtc-bench-idle) with gnuplot.
-
-    plot.py <summary.json> <output.png>
-
 Standard library only; exits 1 with a message when gnuplot is missing.
 """
 import json
@@ -73,8 +72,8 @@ def main(argv):
     if len(argv) == 2 and argv[1] in ("-h", "--help"):
         print(__doc__.strip())
         return 0
-    if len(argv) != 3:
-        sys.stderr.write("usage: plot.py <summary.json> <output.png>\n")
+    if len(argv) != 3 or argv[1].startswith("-"):
+        sys.stderr.write(__doc__.strip() + "\n")
         return 2
     with open(argv[1]) as f:
         summary = json.load(f)

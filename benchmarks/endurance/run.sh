@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# Endurance benchmarks, inside the loopback-only network namespace (not CI;
-# the 4-minute CI test is tests/endurance). See benchmarks/endurance/README.md.
+# usage: benchmarks/endurance/run.sh [--minutes M] [--out DIR] [--interval S] [--no-build]
+#        benchmarks/endurance/run.sh --idle N [--minutes M] [--out DIR] [--interval S] [--no-build]
 #
-#   benchmarks/endurance/run.sh [--minutes M] [--out DIR] [--interval S] [--no-build]
-#       the cell + bridge at their defaults for M minutes (default 30):
-#       DIR/endurance.json, endurance.png, endurance-cell.log, endurance-bridge.log
-#   benchmarks/endurance/run.sh --idle N [--minutes M] [--out DIR] [--interval S] [--no-build]
-#       mtc-bench-idle: an equipment with N interfaces and its counterpart
-#       idling for M minutes (default 10): DIR/idle-N.json, idle-N.png
-#
-# DIR defaults to bench-results/ (gitignored). Exit code 0 when every verdict
-# passes, 1 when one fails, 2 on a usage error.
+# Endurance benchmarks inside the loopback-only network namespace (not CI;
+# the 4-minute CI test is tests/endurance; see benchmarks/endurance/README.md).
+#   without --idle: the cell + bridge at their defaults for M minutes (default
+#       30): DIR/endurance.json, endurance.png, endurance-cell.log, -bridge.log
+#   --idle N: mtc-bench-idle, an equipment with N interfaces and its
+#       counterpart idling for M minutes (default 10): DIR/idle-N.json, .png
+# DIR defaults to bench-results/ (gitignored); --interval: sampling period in
+# seconds (default 10). Exit code 0 when every verdict passes, 1 when one
+# fails, 2 on a usage error.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
