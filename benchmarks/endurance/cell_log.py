@@ -1,3 +1,4 @@
+#!/usr/bin/env python3
 """Reads mtc-cell's output as it is written and counts what the endurance
 verdicts need. Each line of the cell is one write(2) to a pipe shared by the
 supervisor and the three stations, so the order of the lines is the order in
@@ -9,7 +10,10 @@ A LOST line read before the stop (the driver's SIGINT, or the supervisor's
 "stopping every station") is a false alarm: nothing was frozen or killed.
 After the stop the stations leave and their peers rightly report them lost.
 """
+import argparse
+import json
 import re
+import sys
 import threading
 
 LINE = re.compile(r"^\S+\s+(\w+)\s*\| (.*)$")
@@ -141,3 +145,43 @@ class CellLog:
                 "runtime_diagnostics": self.diagnostics,
                 "exit_line_code": self.exit_line_code,
             }
+
+
+def seconds_of_day(line):
+    """The line's HH:MM:SS.mmm (UTC) in seconds, or None."""
+    m = re.match(r"^(\d\d):(\d\d):(\d\d\.\d+)\s", line)
+    return None if not m else int(m.group(1)) * 3600 + int(m.group(2)) * 60 + float(m.group(3))
+
+
+def read_saved(path):
+    """The report of a saved mtc-cell output, timed by its own timestamps."""
+    log = CellLog(None, None, None, 0)
+    first = None
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            t = seconds_of_day(line)
+            if t is not None and first is None:
+                first = t
+            log.parse(line.rstrip("\n"), 0.0 if t is None else (t - first) % 86400)
+    return log.report()
+
+
+def main(argv):
+    p = argparse.ArgumentParser(
+        prog="cell_log.py",
+        description="Counts of a saved mtc-cell output (e.g. bench-results/endurance-cell.log) "
+                    "as JSON: handshakes, injected and other failures, LOST lines before and "
+                    "after the stop. The log reader of endurance.py.")
+    p.add_argument("log", metavar="CELL_LOG")
+    args = p.parse_args(argv)
+    try:
+        report = read_saved(args.log)
+    except OSError as e:
+        sys.stderr.write("cell_log.py: %s\n" % e)
+        return 1
+    print(json.dumps(report, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,3 +1,4 @@
+#!/usr/bin/env python3
 """Per-process resource samples from /proc (Linux, standard library only).
 
 Each sample holds the process's cumulative CPU time (utime + stime), its
@@ -5,7 +6,10 @@ resident set, its open file descriptors and its threads. CPU percentages are
 always computed from two cumulative readings, never from a single one, so a
 figure over a window is exact whatever the sampling period.
 """
+import argparse
+import json
 import os
+import sys
 
 CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
 PAGE_KB = os.sysconf("SC_PAGE_SIZE") // 1024
@@ -99,3 +103,19 @@ class Series:
 
 def rounded(value, digits=3):
     return None if value is None else round(value, digits)
+
+
+def main(argv):
+    p = argparse.ArgumentParser(
+        prog="procstat.py",
+        description="One reading of each pid from /proc as JSON: cumulative CPU seconds, RSS, "
+                    "open fds, threads (null for a process that is gone). The sampler of "
+                    "endurance.py.")
+    p.add_argument("pids", nargs="+", type=int, metavar="PID")
+    args = p.parse_args(argv)
+    print(json.dumps({str(pid): read(pid) for pid in args.pids}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

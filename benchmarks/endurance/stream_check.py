@@ -1,3 +1,4 @@
+#!/usr/bin/env python3
 """A streaming MTConnect client that checks the bridge's sequence numbers.
 
 It holds one `/sample?interval=...` request open for the whole run (an
@@ -16,7 +17,10 @@ One stream rather than repeated polls with `from=`: the stream is the
 bridge's harder path (its own timer, a plan carried from part to part, a
 writer that must keep up) and a poller's checks would be the same.
 """
+import argparse
 import http.client
+import json
+import sys
 import threading
 import time
 import xml.etree.ElementTree as ET
@@ -196,3 +200,27 @@ class StreamCheck:
     def ok(self):
         return (self.parts > 0 and self.observations > 0 and self.gap_count == 0
                 and self.regression_count == 0 and not self.errors)
+
+
+def main(argv):
+    p = argparse.ArgumentParser(
+        prog="stream_check.py",
+        description="Holds a /sample stream on a running mtc-bridge for --seconds and prints the "
+                    "sequence check as JSON; exit 1 on a gap, a regression or an error. The "
+                    "stream client of endurance.py. Run it where the bridge is reachable (inside "
+                    "its namespace).")
+    p.add_argument("--port", type=int, required=True, help="the bridge's HTTP port")
+    p.add_argument("--seconds", type=float, default=10.0, help="how long (default 10)")
+    p.add_argument("--interval-ms", type=int, default=500, help="stream interval (default 500)")
+    args = p.parse_args(argv)
+    if not 1 <= args.port <= 65535 or args.seconds <= 0 or args.interval_ms < 0:
+        p.error("need --port 1-65535, --seconds > 0, --interval-ms >= 0")
+    check = StreamCheck(args.port, interval_ms=args.interval_ms)
+    check.start()
+    time.sleep(args.seconds)  # checking for that long is the point; the thread is a daemon
+    print(json.dumps(check.summary(), indent=1))
+    return 0 if check.ok() else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
