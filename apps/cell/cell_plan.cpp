@@ -62,6 +62,20 @@ Fault describe(FaultPoint point, int cycle) noexcept {
   return {};
 }
 
+core::Service machine_step_failed_by(FaultPoint point) noexcept {
+  switch (point) {
+    case FaultPoint::FeederRefusesFeed:
+      return core::Service::MaterialFeed;
+    case FaultPoint::MachineStopsDuringUnload:
+      return core::Service::MaterialUnload;
+    case FaultPoint::RobotDropsPartOnLoad:
+    case FaultPoint::DoorJams:  // the first OPEN_DOOR of a cycle belongs to its load
+    case FaultPoint::RobotCollisionAtChuck:
+      return core::Service::MaterialLoad;
+  }
+  return core::Service::MaterialLoad;
+}
+
 std::optional<Fault> FaultPlan::at(int cycle) const noexcept {
   if (every_ <= 0 || cycle <= 0) {
     return std::nullopt;

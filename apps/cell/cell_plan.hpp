@@ -40,6 +40,13 @@ struct Fault {
 
 Fault describe(FaultPoint point, int cycle) noexcept;
 
+// The step of the machine's cycle (MATERIAL_FEED, _LOAD or _UNLOAD) a fault
+// makes fail. Every injected fault ends in exactly one failed machine step,
+// also those that hit the robot's door or chuck request (the robot then
+// fails its load, scenario 2), so the machine can tell the failures its plan
+// explains from any other (a false loss alarm, a timeout).
+core::Service machine_step_failed_by(FaultPoint point) noexcept;
+
 // One fault in every block of `every` cycles, at a seeded position within the
 // block; the fault points take turns so a long run shows every scenario.
 // every <= 0: never.

@@ -56,6 +56,14 @@ check_bounded_run() {
   recovered="$(sed -E 's/.* ([0-9]+) recovered.*/\1/' <<<"$summary")"
   [ "$failures" -ge "$injected" ] || fail "machine saw $failures failures for $injected injected"
   [ "$failures" = "$recovered" ] || fail "$failures failures but $recovered recovered"
+  # Each injected fault fails exactly one machine step, which the machine
+  # attributes to its plan; nothing else may fail in a bounded run.
+  local explained other
+  explained="$(sed -nE 's/.*failures \(([0-9]+) injected, [0-9]+ other\).*/\1/p' <<<"$summary")"
+  other="$(sed -nE 's/.*failures \([0-9]+ injected, ([0-9]+) other\).*/\1/p' <<<"$summary")"
+  [ "$explained" = "$injected" ] ||
+    fail "machine attributed '$explained' failures to $injected injected faults"
+  [ "$other" = 0 ] || fail "'$other' failures not explained by an injected fault"
   expect "request recovered: FAIL -> READY" "a requester recovering"
   expect "response recovered -> READY" "a responder recovering"
   grep -Eq "UNRECOVERED|could not recover" "$log" && fail "a failure was not recovered"
