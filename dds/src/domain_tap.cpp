@@ -13,12 +13,12 @@ namespace mtc::dds::detail {
 
 namespace {
 
-std::string spell(std::optional<core::InteractionState> s, int raw) {
-  return s ? std::string(core::to_string(*s)) : "INVALID(" + std::to_string(raw) + ")";
-}
-template <typename Core>
-std::string spell_state(std::optional<Core> s, int raw) {
-  return s ? std::string(core::to_string(*s)) : "INVALID(" + std::to_string(raw) + ")";
+// The sample's state as a core enum; a number outside the vocabulary is kept
+// as sent, so that the runtime can tell it from every known state.
+template <typename IdlValue>
+ObservedState observed_state(ItemKind kind, IdlValue value) {
+  if (const auto known = topics::from_idl(value)) return *known;
+  return ObservedState::outside_vocabulary(kind, static_cast<std::int32_t>(value));
 }
 
 ObservedValue base(std::string device, std::string item, std::string iface,
@@ -35,33 +35,30 @@ ObservedValue base(std::string device, std::string item, std::string iface,
 }
 
 ObservedValue observe(const idl::InteractionSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::Interaction;
+  auto v =
+      base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(),
+           s.sequence_number(), s.heartbeat_count(), s.source_time_ns());
   v.service = topics::from_idl(s.service());
   v.sub_type = topics::from_idl(s.sub_type());
-  v.value = spell(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  v.state = observed_state(ItemKind::Interaction, s.state());
   return v;
 }
 ObservedValue observe(const idl::InterfaceStateSample& s) {
   auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
                 s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::InterfaceState;
-  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  v.state = observed_state(ItemKind::InterfaceState, s.state());
   return v;
 }
 ObservedValue observe(const idl::DoorStateSample& s) {
   auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
                 s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::DoorState;
-  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  v.state = observed_state(ItemKind::DoorState, s.state());
   return v;
 }
 ObservedValue observe(const idl::ChuckStateSample& s) {
   auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
                 s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::ChuckState;
-  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  v.state = observed_state(ItemKind::ChuckState, s.state());
   return v;
 }
 

@@ -107,7 +107,7 @@ class DomainTap {
 
 const char* topic_name(TopicKind kind) noexcept;
 
-// Sample -> plain value conversions (MTConnect spelling of the state).
+// Sample -> plain value conversions (states as core enums).
 ObservedDevice to_observed(const idl::DeviceDescription& d);
 Handle to_handle(const eprosima::fastrtps::rtps::InstanceHandle_t& h) noexcept;
 

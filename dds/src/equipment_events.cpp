@@ -123,7 +123,7 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     // its first interaction value for one of our services.
     const auto& spec = itf->config.counterpart;
     if (itf->link.load() == LinkState::Unpaired && spec.device_uuid == v.device_uuid &&
-        v.kind == ItemKind::Interaction && v.service && v.sub_type) {
+        v.kind() == ItemKind::Interaction && v.service && v.sub_type) {
       const auto role = *v.sub_type == core::SubType::Request ? core::Role::Responder
                                                               : core::Role::Requester;
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
@@ -132,13 +132,13 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     if (callbacks.on_counterpart_value) {
       guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
     }
-    if (v.kind == ItemKind::InterfaceState && v.value == "UNAVAILABLE") {
+    if (v.state.interface_state() == core::InterfaceState::Unavailable) {
       link_lost(*itf, "counterpart INTERFACE_STATE UNAVAILABLE");
       continue;
     }
     itf->last_heard_ns = v.reception_time_ns;
     if (itf->link.load() != LinkState::Up) link_up(*itf, "value received");
-    if (v.kind != ItemKind::Interaction || !v.service || !v.sub_type) continue;
+    if (v.kind() != ItemKind::Interaction || !v.service || !v.sub_type) continue;
     const auto role =
         *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
     if (auto* slot = slot_for(*itf, *v.service, role)) feed_counterpart(*slot, v, missed_change);
@@ -150,10 +150,11 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
   auto& itf = *interfaces[slot.interface_index];
   auto* machine = itf.model->machine(slot.service, slot.role);
   const auto now = SteadyClock::now();
-  const auto parsed = core::parse_interaction_state(v.value);
+  const auto parsed = v.state.interaction();
   core::StepResult r;
   if (!parsed) {
-    r = machine->on_counterpart_text(v.value, now);
+    // A number outside the vocabulary: the machine reports the violation.
+    r = machine->step(core::Event::SeenInvalid, now);
   } else {
     // The responder's ACTIVE was replaced by COMPLETE before it reached us:
     // its change counter proves a change was skipped, so replay ACTIVE

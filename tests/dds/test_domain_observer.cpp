@@ -139,8 +139,8 @@ TEST(DomainObserver, SeesAnnouncementsValuesAndLossByLiveliness) {
     EXPECT_EQ(rec.devices[0].interfaces[0].type, mtc::core::InterfaceType::MaterialHandler);
     EXPECT_EQ(rec.devices[0].interfaces[0].data_items.at(0).sub_type, "RESPONSE");
     const auto& v = rec.values[0];
-    EXPECT_EQ(v.value, "READY");
-    EXPECT_EQ(v.kind, mtc::dds::ItemKind::Interaction);
+    EXPECT_EQ(v.state, mtc::core::ObservedState(mtc::core::InteractionState::Ready));
+    EXPECT_EQ(v.kind(), mtc::dds::ItemKind::Interaction);
     EXPECT_EQ(v.service, mtc::core::Service::MaterialLoad);
     EXPECT_EQ(v.sub_type, mtc::core::SubType::Response);
     EXPECT_EQ(v.sequence_number, 1u);
@@ -180,7 +180,23 @@ TEST(DomainObserver, DeviceFilterHidesOtherDevices) {
   ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
   std::lock_guard<std::mutex> lock(rec.mutex);
   for (const auto& v : rec.values) EXPECT_EQ(v.device_uuid, "wanted");
-  EXPECT_EQ(rec.values[0].value, "FAIL");
+  EXPECT_EQ(rec.values[0].state.interaction(), mtc::core::InteractionState::Fail);
+}
+
+// A peer of another implementation may send a number the IDL enum does not
+// name: the observer hands it over as such, never as a known state.
+TEST(DomainObserver, StateOutsideTheVocabularyIsKeptAsSent) {
+  Recorder rec;
+  mtc::dds::DomainObserver observer(options(24), rec.callbacks());
+  RawDevice dev(24, "robot-1");
+  dev.publish(static_cast<mtc::idl::interaction_state::Value>(9), 1);
+  ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  const auto& state = rec.values[0].state;
+  EXPECT_EQ(state.kind(), mtc::dds::ItemKind::Interaction);
+  EXPECT_FALSE(state.in_vocabulary());
+  EXPECT_EQ(state.raw(), 9);
+  EXPECT_FALSE(state.interaction().has_value());
 }
 
 TEST(DomainObserver, BadOptionsThrowTypedErrors) {

@@ -112,7 +112,7 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
     if (v.service != service || v.sub_type != wanted) {
       return;
     }
-    const auto parsed = core::parse_interaction_state(v.value);
+    const auto parsed = v.state.interaction();
     if (!parsed) {
       return;
     }

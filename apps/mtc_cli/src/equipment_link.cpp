@@ -87,7 +87,7 @@ void EquipmentLink::Impl::on_transition(const dds::TransitionEvent& t) {
 }
 
 void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
-  if (v.kind != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service)) {
+  if (v.kind() != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service)) {
     return;
   }
   const auto wanted =
@@ -98,7 +98,7 @@ void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
   LinkEvent e;
   e.kind = LinkEvent::Kind::CounterpartState;
   e.service = *v.service;
-  e.state = core::parse_interaction_state(v.value).value_or(core::InteractionState::Unavailable);
+  e.state = v.state.interaction().value_or(core::InteractionState::Unavailable);
   e.source_time_ns = v.source_time_ns;
   e.sequence_number = v.sequence_number;
   e.heartbeat_count = v.heartbeat_count;

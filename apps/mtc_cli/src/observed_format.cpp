@@ -29,7 +29,7 @@ dds::DomainObserverOptions observer_options(const CommonOptions& common, const P
 }
 
 std::string item_label(const dds::ObservedValue& v) {
-  switch (v.kind) {
+  switch (v.kind()) {
     case dds::ItemKind::Interaction: {
       std::string label = v.service ? std::string(core::to_string(*v.service)) : v.data_item_id;
       if (v.sub_type) {
