@@ -4,6 +4,7 @@
 
 #include <cstring>
 
+#include "mtc/dds/detail/return_code.hpp"
 #include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
@@ -71,7 +72,7 @@ class TapListener final : public fdds::DataReaderListener {
   void on_data_available(fdds::DataReader* reader) override {
     Sample sample;
     fdds::SampleInfo info;
-    while (reader->take_next_sample(&sample, &info) == ReturnCode::RETCODE_OK) {
+    while (reader->take_next_sample(&sample, &info) == detail::ReturnCode::RETCODE_OK) {
       if (info.valid_data) {
         emit(sample, info);
       } else if (info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
