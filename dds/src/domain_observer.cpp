@@ -10,6 +10,7 @@
 #include "executor.hpp"
 #include "mtc/dds/entities.hpp"
 #include "mtc/dds/topics.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {

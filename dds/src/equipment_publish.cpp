@@ -4,6 +4,7 @@
 
 #include "equipment_impl.hpp"
 #include "mtc/dds/topics.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {

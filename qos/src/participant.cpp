@@ -1,4 +1,4 @@
-#include "mtc/qos/participant.hpp"
+#include "mtc/qos/participant_qos.hpp"
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>

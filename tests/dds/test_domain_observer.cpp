@@ -12,6 +12,7 @@
 #include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace {

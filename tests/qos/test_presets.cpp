@@ -11,7 +11,7 @@
 
 #include <stdexcept>
 
-#include "mtc/qos/participant.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace {

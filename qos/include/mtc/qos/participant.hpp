@@ -1,4 +1,7 @@
-// Participant QoS: transports and discovery timing.
+// Participant configuration: transport, fault injection and timing, as
+// plain values (no Fast DDS type: the runtime's public headers include this
+// one). participant_qos.hpp turns a ParticipantConfig into Fast DDS QoS
+// inside qos/ and dds/.
 //
 // Every test, benchmark and demo of this project runs with a loopback-only
 // transport (Transport::Loopback or LoopbackUdp): the builtin transports are
@@ -15,8 +18,6 @@
 #include <optional>
 #include <string>
 #include <string_view>
-
-#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
 #include "mtc/qos/timing.hpp"
 
@@ -48,9 +49,6 @@ struct ParticipantConfig {
   FaultInjection faults;
   Timing timing;
 };
-
-// Builds the participant QoS; throws std::invalid_argument for a bad timing.
-eprosima::fastdds::dds::DomainParticipantQos participant_qos(const ParticipantConfig& config);
 
 // Named participant profiles, as in the XML file: "mtc.participant.loopback"
 // (UDPv4 127.0.0.1 + SHM) and "mtc.participant.loopback_udp"; throws
