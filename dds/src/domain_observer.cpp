@@ -8,14 +8,16 @@
 
 #include "domain_tap.hpp"
 #include "executor.hpp"
-#include "mtc/dds/entities.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {
 
+namespace topics = detail::topics;
 using detail::Handle;
+using detail::Participant;
 using detail::TopicKind;
 
 namespace {

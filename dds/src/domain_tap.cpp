@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "mtc/dds/detail/return_code.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/presets.hpp"

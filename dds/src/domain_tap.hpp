@@ -12,8 +12,8 @@
 #include <variant>
 #include <vector>
 
+#include "mtc/dds/detail/entities.hpp"
 #include "mtc/dds/domain_observer.hpp"
-#include "mtc/dds/entities.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 #include "mtc/qos/timing.hpp"
 

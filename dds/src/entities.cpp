@@ -1,4 +1,4 @@
-#include "mtc/dds/entities.hpp"
+#include "mtc/dds/detail/entities.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
@@ -6,10 +6,7 @@
 
 #include "mtc/dds/detail/return_code.hpp"
 
-namespace mtc::dds {
-
-using detail::check;
-using detail::ReturnCode;
+namespace mtc::dds::detail {
 
 namespace {
 
@@ -129,4 +126,4 @@ Reader::Reader(Subscriber& subscriber, Topic& topic, const fdds::DataReaderQos& 
 
 Reader::~Reader() { report(subscriber_.get().delete_datareader(reader_), "delete_datareader"); }
 
-}  // namespace mtc::dds
+}  // namespace mtc::dds::detail

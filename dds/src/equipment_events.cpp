@@ -2,7 +2,7 @@
 // counterpart discovery and pairing, counterpart values fed to the machines,
 // and loss / return of communication (scenario 6).
 #include "equipment_impl.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
 
 namespace mtc::dds {
 

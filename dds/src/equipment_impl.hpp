@@ -13,11 +13,19 @@
 
 #include "domain_tap.hpp"
 #include "executor.hpp"
-#include "mtc/dds/entities.hpp"
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 
 namespace mtc::dds {
+
+// The runtime's internals by their short names.
+namespace fdds = eprosima::fastdds::dds;
+namespace topics = detail::topics;
+using detail::Participant;
+using detail::Publisher;
+using detail::Writer;
 
 using SteadyClock = std::chrono::steady_clock;
 

@@ -1,9 +1,9 @@
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
 
 #include <cctype>
 #include <chrono>
 
-namespace mtc::dds::topics {
+namespace mtc::dds::detail::topics {
 
 std::string device_partition(std::string_view device_uuid) {
   return std::string(kPartitionPrefix) + std::string(device_uuid);
@@ -124,4 +124,4 @@ std::int64_t realtime_ns() noexcept {
       .count();
 }
 
-}  // namespace mtc::dds::topics
+}  // namespace mtc::dds::detail::topics

@@ -7,9 +7,9 @@
 #include <condition_variable>
 #include <mutex>
 
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/domain_observer.hpp"
-#include "mtc/dds/entities.hpp"
-#include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant_qos.hpp"
@@ -18,7 +18,7 @@
 namespace {
 
 using namespace std::chrono_literals;
-namespace topics = mtc::dds::topics;
+namespace topics = mtc::dds::detail::topics;
 
 struct Recorder {
   std::mutex mutex;
@@ -67,15 +67,15 @@ class RawDevice {
         mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
     participant_.register_type(
         mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
-    response_topic_ = std::make_unique<mtc::dds::Topic>(
+    response_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_, topics::kInteractionResponse, "mtc::idl::InteractionSample",
         mtc::qos::state_topic().topic_qos());
-    description_topic_ = std::make_unique<mtc::dds::Topic>(
+    description_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_, topics::kDeviceDescription, "mtc::idl::DeviceDescription",
         mtc::qos::device_description_topic().topic_qos());
-    writer_ = std::make_unique<mtc::dds::Writer<mtc::idl::InteractionSample>>(
+    writer_ = std::make_unique<mtc::dds::detail::Writer<mtc::idl::InteractionSample>>(
         publisher_, *response_topic_, mtc::qos::state_topic().writer_qos(), listener_);
-    describer_ = std::make_unique<mtc::dds::Writer<mtc::idl::DeviceDescription>>(
+    describer_ = std::make_unique<mtc::dds::detail::Writer<mtc::idl::DeviceDescription>>(
         publisher_, *description_topic_, mtc::qos::device_description_topic().writer_qos(),
         listener_);
   }
@@ -110,14 +110,14 @@ class RawDevice {
   void drop_writer() { writer_.reset(); }
 
  private:
-  mtc::dds::Participant participant_;
-  mtc::dds::Publisher publisher_;
+  mtc::dds::detail::Participant participant_;
+  mtc::dds::detail::Publisher publisher_;
   std::string uuid_;
   QuietListener listener_;
-  std::unique_ptr<mtc::dds::Topic> response_topic_;
-  std::unique_ptr<mtc::dds::Topic> description_topic_;
-  std::unique_ptr<mtc::dds::Writer<mtc::idl::InteractionSample>> writer_;
-  std::unique_ptr<mtc::dds::Writer<mtc::idl::DeviceDescription>> describer_;
+  std::unique_ptr<mtc::dds::detail::Topic> response_topic_;
+  std::unique_ptr<mtc::dds::detail::Topic> description_topic_;
+  std::unique_ptr<mtc::dds::detail::Writer<mtc::idl::InteractionSample>> writer_;
+  std::unique_ptr<mtc::dds::detail::Writer<mtc::idl::DeviceDescription>> describer_;
 };
 
 mtc::dds::DomainObserverOptions options(int domain) {

@@ -1,4 +1,6 @@
-// Topic and partition design (see README "DDS runtime").
+// Internal: topic and partition design (see README "DDS runtime"), item ids
+// and the IDL <-> core enum conversions. Used by the runtime's sources,
+// tests and raw peers (never by a public header).
 //
 // Topics are split by role so that DDS-Security permissions, which grant by
 // topic name and partition (not by instance key), can express "only the
@@ -25,7 +27,7 @@
 #include "mtc/core/vocabulary.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 
-namespace mtc::dds::topics {
+namespace mtc::dds::detail::topics {
 
 inline constexpr const char* kInteractionRequest = "mtc/InteractionRequest";
 inline constexpr const char* kInteractionResponse = "mtc/InteractionResponse";
@@ -77,4 +79,4 @@ std::optional<core::InterfaceType> from_idl(idl::interface_types::InterfaceType 
 // CLOCK_REALTIME in ns since the epoch (the source_time_ns of samples).
 std::int64_t realtime_ns() noexcept;
 
-}  // namespace mtc::dds::topics
+}  // namespace mtc::dds::detail::topics
