@@ -265,8 +265,7 @@ class EquipmentLink : public Link {
     eo.domain_id = options.domain_id;
     eo.device_uuid = uuid_of(id);
     eo.device_name = std::string(to_string(id));
-    eo.timing.heartbeat = options.heartbeat;
-    eo.timing.missed_heartbeats = options.missed_heartbeats;
+    eo.timing = options.timing;
     equipment_ = std::make_unique<dds::Equipment>(eo, callbacks());
     const Layout l = layout_of(id);
     for (const auto& i : l.interfaces) {

@@ -186,8 +186,7 @@ EquipmentLink::EquipmentLink(const EquipmentConfig& config, core::Role role, Eve
   options.domain_id = config.common.domain;
   options.device_uuid = config.device_uuid;
   options.device_name = config.device_name;
-  options.timing.heartbeat = config.heartbeat;
-  options.timing.missed_heartbeats = config.missed_heartbeats;
+  options.timing = config.timing;
   options.transport = to_transport(config);
   options.faults.drop_data_percent = static_cast<std::uint8_t>(config.drop_percent);
   // The tool has no partial actions to reset: clear every acknowledged FAIL.

@@ -36,6 +36,25 @@ qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& com
   return *parsed;
 }
 
+// --heartbeat-ms / --missed-heartbeats over the qos::Timing defaults.
+void add_timing_options(CommandSpec& spec, const std::string& heartbeat_help,
+                        const std::string& missed_help) {
+  const qos::Timing defaults;
+  spec.options.push_back(
+      {"heartbeat-ms", "MS", heartbeat_help, std::to_string(defaults.heartbeat.count())});
+  spec.options.push_back(
+      {"missed-heartbeats", "N", missed_help, std::to_string(defaults.missed_heartbeats)});
+}
+
+void parse_timing_options(const ParsedArgs& args, qos::Timing& timing) {
+  if (auto h = args.value("heartbeat-ms")) {
+    timing.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
+  }
+  if (auto m = args.value("missed-heartbeats")) {
+    timing.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
+  }
+}
+
 }  // namespace
 
 std::vector<core::Service> parse_services(const std::string& text, bool many) {
@@ -92,22 +111,15 @@ void add_observer_options(CommandSpec& spec) {
   spec.options.push_back({"transport", "KIND",
                           "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
                           "loopback"});
-  spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of the watched devices", "100"});
-  spec.options.push_back({"missed-heartbeats", "N",
-                          "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
-                          "or their items do not match)",
-                          "3"});
+  add_timing_options(spec, "heartbeat period of the watched devices",
+                     "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
+                     "or their items do not match)");
 }
 
 ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common) {
   ObserverSettings s;
   s.transport = transport_option(args, common);
-  if (auto h = args.value("heartbeat-ms")) {
-    s.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  }
-  if (auto m = args.value("missed-heartbeats")) {
-    s.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
-  }
+  parse_timing_options(args, s.timing);
   return s;
 }
 
@@ -129,9 +141,8 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
   spec.options.push_back({"transport", "KIND",
                           "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
                           "loopback"});
-  spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of every data item", "100"});
-  spec.options.push_back(
-      {"missed-heartbeats", "N", "heartbeats missed before the peer counts as lost", "3"});
+  add_timing_options(spec, "heartbeat period of every data item",
+                     "heartbeats missed before the peer counts as lost");
   spec.options.push_back({"fail-ack-timeout", "TIME",
                           "leave FAIL without the counterpart's acknowledgement after this long",
                           "2s"});
@@ -163,12 +174,7 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
     c.interface_type = *parsed;
   }
   c.transport = transport_option(args, c.common);
-  if (auto h = args.value("heartbeat-ms")) {
-    c.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  }
-  if (auto m = args.value("missed-heartbeats")) {
-    c.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
-  }
+  parse_timing_options(args, c.timing);
   if (auto f = args.value("fail-ack-timeout")) {
     c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);
   }

@@ -23,8 +23,7 @@ dds::DomainObserverOptions observer_options(const CommonOptions& common, const P
   o.qos_profile = common.qos_profile;
   o.device_filter = args.values("device");
   o.transport = s.transport;
-  o.timing.heartbeat = s.heartbeat;
-  o.timing.missed_heartbeats = s.missed_heartbeats;
+  o.timing = s.timing;
   return o;
 }
 
