@@ -111,10 +111,11 @@ struct DomainObserver::Impl {
     if (e.alive) return;  // values resume with the next sample
     const auto it = writers.find(e.writer);
     if (it == writers.end()) return;
-    // A lease expiry always follows about a lease of silence; an earlier one
-    // is spurious (an unmatched writer, though, is gone at once).
-    const auto silence = std::chrono::nanoseconds(topics::realtime_ns() - it->second.last_ns);
-    if (!e.unmatched && silence < options.timing.lease() / 2) return;
+    // An unmatched writer is gone at once; a lease expiry must be due.
+    if (!e.unmatched &&
+        detail::expiry_is_premature(it->second.last_ns, topics::realtime_ns(), options.timing)) {
+      return;
+    }
     if (it->second.description) {
       device_lost(it->second.device);
     } else {

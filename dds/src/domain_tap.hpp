@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -106,6 +107,17 @@ class DomainTap {
 };
 
 const char* topic_name(TopicKind kind) noexcept;
+
+// A writer's liveliness lease expiry (WriterLivelinessEvent, not alive, not
+// unmatched) is a loss only after about a lease of silence: Fast DDS 2.9
+// occasionally reports one right after a writer's first samples. True when
+// the writer was heard (last_heard_ns, CLOCK_REALTIME; 0 = never) less than
+// half a lease before now_ns: the expiry is to be ignored.
+constexpr bool expiry_is_premature(std::int64_t last_heard_ns, std::int64_t now_ns,
+                                   const qos::Timing& timing) noexcept {
+  return last_heard_ns != 0 &&
+         std::chrono::nanoseconds(now_ns - last_heard_ns) < timing.lease() / 2;
+}
 
 // Sample -> plain value conversions (states as core enums).
 ObservedDevice to_observed(const idl::DeviceDescription& d);

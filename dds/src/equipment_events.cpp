@@ -184,19 +184,16 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
   try_issue(slot, now);
 }
 
-// A lease or deadline event for something we heard from well within the
-// lease is not a loss: Fast DDS 2.9 occasionally raises a deadline miss for
-// an instance right after its first samples. A real loss always comes after
-// about a lease of silence.
+// A lease expiry for a writer heard from well within the lease is not a
+// loss (detail::expiry_is_premature); say so, since it explains a link that
+// stays up.
 bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
                                    const std::string& what) {
-  const auto silence = std::chrono::nanoseconds(topics::realtime_ns() - last_ns);
-  if (last_ns != 0 && silence < groups[group]->timing.lease() / 2) {
-    diagnostic("ignored " + what + " after only " +
-               std::to_string(silence.count() / 1000000) + " ms of silence");
-    return true;
-  }
-  return false;
+  const auto now = topics::realtime_ns();
+  if (!detail::expiry_is_premature(last_ns, now, groups[group]->timing)) return false;
+  diagnostic("ignored " + what + " after only " + std::to_string((now - last_ns) / 1000000) +
+             " ms of silence");
+  return true;
 }
 
 // A DEADLINE miss is a cue to check, not a verdict on the instance it names:
