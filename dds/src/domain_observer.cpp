@@ -156,7 +156,7 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   detail::TapConfig tc;
   tc.partitions = {"*"};
   tc.timing = options.timing;
-  tc.request_deadline = false;
+  tc.observer = true;
   impl->tap = std::make_unique<detail::DomainTap>(
       *impl->participant, *impl->topics, tc, [impl](detail::TapEvent&& event) {
         impl->executor.post([impl, ev = std::move(event)]() mutable {

@@ -235,16 +235,11 @@ std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const Ta
 }
 
 fdds::DataReaderQos reader_qos(TopicKind kind, const TapConfig& config) {
-  auto preset = kind == TopicKind::DeviceDescription ? qos::device_description_topic(config.timing)
-                                                     : qos::state_topic(config.timing);
-  auto q = preset.reader_qos();
-  if (!config.request_deadline) {
-    q.deadline().period = eprosima::fastrtps::c_TimeInfinite;
+  if (kind == TopicKind::DeviceDescription) {
+    return qos::device_description_topic(config.timing).reader_qos();
   }
-  // A reader sees every device's items: allow more instances than a writer.
-  q.resource_limits().max_instances = 16384;
-  q.resource_limits().max_samples = 16384 * q.resource_limits().max_samples_per_instance;
-  return q;
+  return config.observer ? qos::state_observer_topic(config.timing).reader_qos()
+                         : qos::state_topic(config.timing).reader_qos();
 }
 
 }  // namespace

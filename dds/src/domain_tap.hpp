@@ -72,9 +72,11 @@ using TapSink = std::function<void(TapEvent&&)>;
 struct TapConfig {
   std::vector<std::string> partitions;
   qos::Timing timing;
-  // Observer mode requests no DEADLINE so that it matches devices with any
-  // heartbeat; equipment mode requests the preset's DEADLINE.
-  bool request_deadline = true;
+  // Reader QoS of the state topics: an equipment's readers use the state
+  // preset (its DEADLINE is the heartbeat contract); an observer's use the
+  // state_observer preset (no DEADLINE: devices of any heartbeat match).
+  // Announcements are read with the device_description preset either way.
+  bool observer = false;
   // Which topics to read (indexed by TopicKind).
   std::array<bool, kTopicKindCount> topics{true, true, true, true, true, true};
 };

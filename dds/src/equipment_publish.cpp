@@ -156,7 +156,6 @@ void EquipmentImpl::create_entities() {
     detail::TapConfig tc;
     tc.partitions = reader_partitions(*this);
     tc.timing = groups[g]->timing;
-    tc.request_deadline = true;
     // Announcements are read once, with the equipment's timing.
     tc.topics[static_cast<std::size_t>(detail::TopicKind::DeviceDescription)] = g == 0;
     groups[g]->tap = std::make_unique<detail::DomainTap>(
