@@ -1,7 +1,5 @@
 #include "equipment_options.hpp"
 
-#include "mtc/qos/presets.hpp"
-
 namespace mtc::cli {
 
 namespace {
@@ -153,11 +151,6 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
                                         bool counterpart_required) {
   EquipmentConfig c;
   c.common = parse_common_options(args);
-  // The runtime publishes interaction items with the state preset only.
-  if (!c.common.qos_profile.empty() && c.common.qos_profile != std::string(qos::kStateProfile)) {
-    throw UsageError("--qos-profile: request/respond publish state topics with '" +
-                     std::string(qos::kStateProfile) + "' only");
-  }
   c.services = parse_services(required(args, "service"), many_services);
   c.device_uuid = required(args, "device");
   c.interface_id = required(args, "interface");

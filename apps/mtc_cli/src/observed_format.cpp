@@ -20,7 +20,6 @@ dds::DomainObserverOptions observer_options(const CommonOptions& common, const P
   const ObserverSettings s = parse_observer_options(args, common);
   dds::DomainObserverOptions o;
   o.domain_id = common.domain;
-  o.qos_profile = common.qos_profile;
   o.device_filter = args.values("device");
   o.transport = s.transport;
   o.timing = s.timing;

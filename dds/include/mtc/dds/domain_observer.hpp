@@ -43,7 +43,11 @@ struct DomainObserverCallbacks {
 
 struct DomainObserverOptions {
   int domain_id = 0;
-  // Name of a QoS preset of mtc::qos for the state topics; empty = default.
+  // Endpoint QoS is not selectable: the observer reads state topics with
+  // qos::state_observer_topic(timing) and announcements with
+  // qos::device_description_topic(timing), the only presets that match the
+  // devices' writers. Kept so that callers which still set it compile until
+  // they drop it; any non-empty value is a ConfigError. To be removed.
   std::string qos_profile;
   // Only these devices (uuid); empty = all.
   std::vector<std::string> device_filter;
