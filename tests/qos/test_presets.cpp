@@ -194,11 +194,13 @@ TEST(Profiles, ParticipantProfilesAndTransportNames) {
   EXPECT_EQ(mtc::qos::participant_config("mtc.participant.loopback_udp").transport,
             mtc::qos::Transport::LoopbackUdp);
   EXPECT_THROW(mtc::qos::participant_config("nope"), std::invalid_argument);
-  for (auto t : {mtc::qos::Transport::Loopback, mtc::qos::Transport::LoopbackUdp,
-                 mtc::qos::Transport::LoopbackTest, mtc::qos::Transport::Builtin}) {
+  for (auto t : mtc::qos::kAllTransports) {
     EXPECT_EQ(mtc::qos::parse_transport(mtc::qos::to_string(t)), t);
   }
+  EXPECT_EQ(mtc::qos::to_string(mtc::qos::Transport::Network), "network");
   EXPECT_FALSE(mtc::qos::parse_transport("udp6").has_value());
+  // One name per transport: the former spelling is gone.
+  EXPECT_FALSE(mtc::qos::parse_transport("builtin").has_value());
 }
 
 TEST(Profiles, FilePathPointsAtAnExistingFile) {

@@ -122,7 +122,7 @@ TEST(CliUsage, BadTransportAndProfileForRequestExit2) {
   MtcRun r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service",
                       "MATERIAL_LOAD", "--counterpart", "machine-1", "--transport", "pigeon"});
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--transport expects loopback, loopback-udp, test or builtin"),
+  EXPECT_NE(r.err.find("--transport expects loopback, loopback-udp, test or network"),
             std::string::npos)
       << r.err;
   r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service", "MATERIAL_LOAD",

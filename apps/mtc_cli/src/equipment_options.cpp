@@ -20,6 +20,16 @@ std::string required(const ParsedArgs& args, const std::string& name) {
   return *v;
 }
 
+// "loopback, loopback-udp, test<last>network", from qos's spellings.
+std::string transport_names(const std::string& last) {
+  std::string text;
+  for (std::size_t i = 0; i < qos::kAllTransports.size(); ++i) {
+    if (i > 0) text += i + 1 == qos::kAllTransports.size() ? last : ", ";
+    text += std::string(qos::to_string(qos::kAllTransports[i]));
+  }
+  return text;
+}
+
 // --transport, else the transport of a participant --qos-profile, else loopback.
 qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& common) {
   const auto text = args.value("transport");
@@ -28,8 +38,7 @@ qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& com
   }
   const auto parsed = qos::parse_transport(*text);
   if (!parsed) {
-    throw UsageError("--transport expects loopback, loopback-udp, test or builtin, got '" + *text +
-                     "'");
+    throw UsageError("--transport expects " + transport_names(" or ") + ", got '" + *text + "'");
   }
   return *parsed;
 }
@@ -107,7 +116,8 @@ std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text) 
 
 void add_observer_options(CommandSpec& spec) {
   spec.options.push_back({"transport", "KIND",
-                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
+                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, network (every "
+                          "interface: a real cell network only)",
                           "loopback"});
   add_timing_options(spec, "heartbeat period of the watched devices",
                      "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
@@ -137,7 +147,8 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
        many_services ? "device uuid of the requester" : "device uuid of the responder (required)",
        many_services ? "any" : ""});
   spec.options.push_back({"transport", "KIND",
-                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
+                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, network (every "
+                          "interface: a real cell network only)",
                           "loopback"});
   add_timing_options(spec, "heartbeat period of every data item",
                      "heartbeats missed before the peer counts as lost");

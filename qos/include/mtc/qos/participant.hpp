@@ -12,6 +12,7 @@
 // 127.0.0.1 so that discovery also works where multicast is not routed.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -27,9 +28,15 @@ enum class Transport : std::uint8_t {
   Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest)
   LoopbackUdp,   // UDPv4 on 127.0.0.1 only
   LoopbackTest,  // Fast DDS test_UDPv4 transport on 127.0.0.1: fault injection
-  Builtin,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
+  Network,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
                  // for deployment on a real cell network only, never in tests
+  // Former name of Network, kept only until mtc-bridge's sources (reworked
+  // elsewhere) use Network; not a transport of its own. To be removed.
+  Builtin = Network,
 };
+
+inline constexpr std::array<Transport, 4> kAllTransports = {
+    Transport::Loopback, Transport::LoopbackUdp, Transport::LoopbackTest, Transport::Network};
 
 // Faults the LoopbackTest transport injects into what this participant
 // sends (ignored by the other transports).
@@ -55,7 +62,8 @@ struct ParticipantConfig {
 // std::invalid_argument naming the known profiles otherwise.
 ParticipantConfig participant_config(std::string_view profile_name, const Timing& timing = {});
 
-// Command-line spellings: "loopback", "loopback-udp", "test", "builtin".
+// The one spelling of each transport, in command lines and configuration
+// files alike: "loopback", "loopback-udp", "test", "network".
 std::optional<Transport> parse_transport(std::string_view text) noexcept;
 std::string_view to_string(Transport t) noexcept;
 
