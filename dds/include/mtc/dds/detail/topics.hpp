@@ -57,9 +57,10 @@ std::string interface_state_item_id(std::string_view interface_id);
 std::string door_state_item_id(std::string_view interface_id);
 std::string chuck_state_item_id(std::string_view interface_id);
 
-// Conversions between the IDL enums and the core vocabulary (the enumerators
-// are declared in the same order). from_idl returns nullopt for a value
-// outside the enum, which a peer of another vendor could send.
+// Conversions between the IDL enums and the core vocabulary, by position:
+// topics.cpp pairs every enumerator and fails the build if the two sides
+// fall out of order. from_idl returns nullopt for a value outside the enum,
+// which a peer of another vendor could send.
 idl::interaction_state::Value to_idl(core::InteractionState s) noexcept;
 idl::interface_state::Value to_idl(core::InterfaceState s) noexcept;
 idl::door_state::Value to_idl(core::DoorState s) noexcept;
