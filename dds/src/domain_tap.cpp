@@ -44,22 +44,25 @@ ObservedValue observe(const idl::InteractionSample& s) {
   v.state = observed_state(ItemKind::Interaction, s.state());
   return v;
 }
-ObservedValue observe(const idl::InterfaceStateSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.state = observed_state(ItemKind::InterfaceState, s.state());
-  return v;
+
+// INTERFACE_STATE, DOOR_STATE and CHUCK_STATE samples differ only in the
+// type of their state.
+constexpr ItemKind kind_of(const idl::InterfaceStateSample&) {
+  return ItemKind::InterfaceState;
 }
-ObservedValue observe(const idl::DoorStateSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.state = observed_state(ItemKind::DoorState, s.state());
-  return v;
+constexpr ItemKind kind_of(const idl::DoorStateSample&) {
+  return ItemKind::DoorState;
 }
-ObservedValue observe(const idl::ChuckStateSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.state = observed_state(ItemKind::ChuckState, s.state());
+constexpr ItemKind kind_of(const idl::ChuckStateSample&) {
+  return ItemKind::ChuckState;
+}
+
+template <typename StateSample>
+ObservedValue observe(const StateSample& s) {
+  auto v =
+      base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(),
+           s.sequence_number(), s.heartbeat_count(), s.source_time_ns());
+  v.state = observed_state(kind_of(s), s.state());
   return v;
 }
 
@@ -167,6 +170,13 @@ const char* topic_name(TopicKind kind) noexcept {
 
 namespace {
 
+// Registers an IDL type (once per participant) and returns its name.
+template <typename PubSub>
+std::string registered(Participant& participant) {
+  participant.register_type(idl::type_support<PubSub>());
+  return type_name<PubSub>();
+}
+
 // Registers the IDL type of a topic and creates it.
 std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
                                   const qos::Timing& timing) {
@@ -174,24 +184,19 @@ std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
   switch (kind) {
     case TopicKind::Request:
     case TopicKind::Response:
-      participant.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
-      type = type_name<idl::InteractionSamplePubSubType>();
+      type = registered<idl::InteractionSamplePubSubType>(participant);
       break;
     case TopicKind::InterfaceState:
-      participant.register_type(idl::type_support<idl::InterfaceStateSamplePubSubType>());
-      type = type_name<idl::InterfaceStateSamplePubSubType>();
+      type = registered<idl::InterfaceStateSamplePubSubType>(participant);
       break;
     case TopicKind::DoorState:
-      participant.register_type(idl::type_support<idl::DoorStateSamplePubSubType>());
-      type = type_name<idl::DoorStateSamplePubSubType>();
+      type = registered<idl::DoorStateSamplePubSubType>(participant);
       break;
     case TopicKind::ChuckState:
-      participant.register_type(idl::type_support<idl::ChuckStateSamplePubSubType>());
-      type = type_name<idl::ChuckStateSamplePubSubType>();
+      type = registered<idl::ChuckStateSamplePubSubType>(participant);
       break;
     case TopicKind::DeviceDescription:
-      participant.register_type(idl::type_support<idl::DeviceDescriptionPubSubType>());
-      type = type_name<idl::DeviceDescriptionPubSubType>();
+      type = registered<idl::DeviceDescriptionPubSubType>(participant);
       return std::make_unique<Topic>(participant, topic_name(kind), type,
                                      qos::device_description_topic(timing).topic_qos());
   }
