@@ -74,18 +74,17 @@ build_first=1
 cell_args=()
 # The bridge's observer must use the cell's lease: a reader whose lease is
 # shorter than the writers' does not match them (and Fast DDS detects loss
-# with the reader's own lease). mtc-cell defaults: 100 ms x 3.
-heartbeat_ms=100
-missed_heartbeats=3
+# with the reader's own lease). Both default to the runtime's timing
+# (qos::Timing), so the flags are handed to the bridge only when given.
+bridge_timing=()
 usage_error() { echo "start.sh: $*" >&2; usage >&2; exit 2; }
 need_value() { [ $# -ge 2 ] || usage_error "$1 needs a value"; }
 while [ $# -gt 0 ]; do
   case "$1" in
     -h | --help) usage; exit 0 ;;
     --no-build) build_first=0; shift ;;
-    --heartbeat-ms) need_value "$@"; heartbeat_ms="$2"; cell_args+=("$1" "$2"); shift 2 ;;
-    --missed-heartbeats)
-      need_value "$@"; missed_heartbeats="$2"; cell_args+=("$1" "$2"); shift 2 ;;
+    --heartbeat-ms | --missed-heartbeats)
+      need_value "$@"; bridge_timing+=("$1" "$2"); cell_args+=("$1" "$2"); shift 2 ;;
     --port) need_value "$@"; port="$2"; shift 2 ;;
     --domain) need_value "$@"; domain="$2"; shift 2 ;;
     --inner) shift ;;  # set by the re-exec below
@@ -132,8 +131,7 @@ echo "$port" >"$port_file"
 if [ -x "$bridge" ]; then
   # Same heartbeat as the cell, so the bridge matches the stations' writers
   # and declares a device lost when the stations would.
-  "$bridge" --domain-ids "$domain" --port "$port" --heartbeat-ms "$heartbeat_ms" \
-    --missed-heartbeats "$missed_heartbeats" \
+  "$bridge" --domain-ids "$domain" --port "$port" "${bridge_timing[@]}" \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
   # Wait until the agent answers (it also needs no device yet to answer).

@@ -265,8 +265,7 @@ class EquipmentLink : public Link {
     eo.domain_id = options.domain_id;
     eo.device_uuid = uuid_of(id);
     eo.device_name = std::string(to_string(id));
-    eo.timing.heartbeat = options.heartbeat;
-    eo.timing.missed_heartbeats = options.missed_heartbeats;
+    eo.timing = options.timing;
     equipment_ = std::make_unique<dds::Equipment>(eo, callbacks());
     const Layout l = layout_of(id);
     for (const auto& i : l.interfaces) {
@@ -357,21 +356,21 @@ class EquipmentLink : public Link {
   }
 
   void note_value(const dds::ObservedValue& v) {
-    if (v.kind == dds::ItemKind::Interaction) {
+    if (v.kind() == dds::ItemKind::Interaction) {
       if (v.heartbeat_count == 0) {
         shared_.touch();  // a change: waits re-check
       }
       return;
     }
-    if (v.kind != dds::ItemKind::DoorState && v.kind != dds::ItemKind::ChuckState) {
+    if (v.kind() != dds::ItemKind::DoorState && v.kind() != dds::ItemKind::ChuckState) {
       return;
     }
     {
       std::lock_guard<std::mutex> lock(shared_.mutex);
-      if (v.kind == dds::ItemKind::DoorState) {
-        shared_.door = core::parse_door_state(v.value);
+      if (v.kind() == dds::ItemKind::DoorState) {
+        shared_.door = v.state.door();
       } else {
-        shared_.chuck = core::parse_chuck_state(v.value);
+        shared_.chuck = v.state.chuck();
       }
     }
     shared_.cv.notify_all();

@@ -16,6 +16,7 @@ namespace {
 using mtc::cell::CellOptions;
 
 void usage(std::ostream& out) {
+  const mtc::qos::Timing defaults;
   out << "usage: mtc-cell [options]\n"
          "  --cycles N       stop after N machine cycles (default: run until Ctrl-C)\n"
          "  --duration S     stop after S seconds\n"
@@ -27,7 +28,10 @@ void usage(std::ostream& out) {
          "                   for a lease + 3 s: scenario 6 (default 0 = never; processes only)\n"
          "  --domain D       DDS domain id (default 110)\n"
          "  --heartbeat-ms MS, --missed-heartbeats N\n"
-         "                   DDS heartbeat and loss detection (default 100 x 3 = 300 ms)\n"
+         "                   DDS heartbeat and loss detection (default "
+      << defaults.heartbeat.count() << " x " << defaults.missed_heartbeats << " = "
+      << defaults.lease().count()
+      << " ms)\n"
          "  --threads        run the three stations as threads of one process\n"
          "  --local          same, over an in-memory link instead of DDS (no network)\n"
          "  --station NAME   run one station only: machine, robot or feeder\n"
@@ -94,9 +98,9 @@ std::string parse(int argc, char** argv, Parsed& p) {
     } else if (a == "--pace-ms" && parse_number(v, 1, 60000, n)) {
       p.options.pace = mtc::cell::Millis(n);
     } else if (a == "--heartbeat-ms" && parse_number(v, 10, 60000, n)) {
-      p.options.heartbeat = mtc::cell::Millis(n);
+      p.options.timing.heartbeat = mtc::cell::Millis(n);
     } else if (a == "--missed-heartbeats" && parse_number(v, 2, 100, n)) {
-      p.options.missed_heartbeats = static_cast<int>(n);
+      p.options.timing.missed_heartbeats = static_cast<int>(n);
     } else if (a == "--domain" && parse_number(v, 0, 232, n)) {
       p.options.domain_id = static_cast<int>(n);
     } else {

@@ -15,6 +15,7 @@
 #include <mutex>
 
 #include "cell_plan.hpp"
+#include "mtc/qos/timing.hpp"
 #include "ports.hpp"
 
 namespace mtc::cell {
@@ -29,10 +30,9 @@ struct CellOptions {
   Millis pace{150};                 // duration of one simulated motion
   Millis handshake_timeout{15000};  // a handshake that takes longer is a cell fault
   // DDS heartbeat of every station and how many may be missed before a peer
-  // counts as lost (scenario 6): the runtime's default, a 300 ms lease. The
-  // bridge should be started with the same values.
-  Millis heartbeat{100};
-  int missed_heartbeats = 3;
+  // counts as lost (scenario 6): the runtime's default unless --heartbeat-ms /
+  // --missed-heartbeats say otherwise. The bridge must use the same lease.
+  qos::Timing timing;
 };
 
 // Stop request shared by a station's threads; its sleeps wake on stop().

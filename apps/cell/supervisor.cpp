@@ -173,7 +173,7 @@ class Supervisor {
 
   // A lease and 3 s: long enough to be declared lost for certain.
   Clock::duration freeze_length() const {
-    return options_.heartbeat * options_.missed_heartbeats + std::chrono::seconds(3);
+    return options_.timing.lease() + std::chrono::seconds(3);
   }
 
   void begin_stop(const char* why, int code) {

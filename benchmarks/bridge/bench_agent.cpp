@@ -17,8 +17,8 @@ namespace {
 using namespace mtc;
 using namespace mtc::bridge;
 
-dds::ObservedDataItem item(std::string id, std::string type, std::string sub = "") {
-  dds::ObservedDataItem d;
+core::ObservedDataItem item(std::string id, std::string type, std::string sub = "") {
+  core::ObservedDataItem d;
   d.id = std::move(id);
   d.type = std::move(type);
   d.sub_type = std::move(sub);
@@ -33,10 +33,10 @@ std::unique_ptr<MtconnectAgent> make_cell() {
   auto agent = make_agent(o);
   const char* names[] = {"mill", "robot", "feeder"};
   for (const char* n : names) {
-    dds::ObservedDevice d;
+    core::ObservedDevice d;
     d.device_uuid = std::string(n) + "-uuid";
     d.name = n;
-    dds::ObservedInterface mh;
+    core::ObservedInterface mh;
     mh.id = std::string(n) + "_mh";
     mh.type = core::InterfaceType::MaterialHandler;
     const std::string p = std::string(n) + ".";
@@ -54,11 +54,11 @@ std::unique_ptr<MtconnectAgent> make_cell() {
   return agent;
 }
 
-dds::ObservedValue value(int i) {
-  dds::ObservedValue v;
+core::ObservedValue value(int i) {
+  core::ObservedValue v;
   v.device_uuid = "mill-uuid";
   v.data_item_id = "mill.load";
-  v.value = i % 2 ? "ACTIVE" : "READY";
+  v.state = i % 2 ? core::InteractionState::Active : core::InteractionState::Ready;
   v.source_time_ns = 1'700'000'000'000'000'000 + i;
   return v;
 }
@@ -124,7 +124,7 @@ BENCHMARK(BM_IngestChange);
 void BM_IngestHeartbeat(benchmark::State& state) {
   auto agent = make_cell();
   agent->add_value(value(0));
-  dds::ObservedValue v = value(0);
+  core::ObservedValue v = value(0);
   for (auto _ : state) {
     ++v.heartbeat_count;
     agent->add_value(v);

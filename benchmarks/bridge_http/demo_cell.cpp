@@ -9,18 +9,22 @@ namespace {
 
 // Values a data item of this type cycles through (all valid transitions
 // are not needed here, only changes the agent will record).
-std::vector<std::string> values_for(const std::string& type, const std::string& sub_type) {
+std::vector<core::ObservedState> values_for(const std::string& type, const std::string& sub_type) {
+  using core::InteractionState;
   if (type == "INTERFACE_STATE") {
-    return {"ENABLED", "DISABLED"};
+    return {core::InterfaceState::Enabled, core::InterfaceState::Disabled};
   }
-  if (type == "DOOR_STATE" || type == "CHUCK_STATE") {
-    return {"OPEN", "UNLATCHED", "CLOSED"};
+  if (type == "DOOR_STATE") {
+    return {core::DoorState::Open, core::DoorState::Unlatched, core::DoorState::Closed};
+  }
+  if (type == "CHUCK_STATE") {
+    return {core::ChuckState::Open, core::ChuckState::Unlatched, core::ChuckState::Closed};
   }
   if (sub_type == "REQUEST") {
-    return {"READY", "ACTIVE", "NOT_READY"};
+    return {InteractionState::Ready, InteractionState::Active, InteractionState::NotReady};
   }
   if (sub_type == "RESPONSE") {
-    return {"READY", "ACTIVE", "COMPLETE"};
+    return {InteractionState::Ready, InteractionState::Active, InteractionState::Complete};
   }
   return {};
 }
@@ -73,10 +77,10 @@ DemoCell::~DemoCell() {
 void DemoCell::feed_next(std::size_t index) {
   const auto i = index % items_.size();
   const FedItem& item = items_[i];
-  dds::ObservedValue value;
+  core::ObservedValue value;
   value.device_uuid = item.device_uuid;
   value.data_item_id = item.id;
-  value.value = item.values[cursor_[i]++ % item.values.size()];
+  value.state = item.values[cursor_[i]++ % item.values.size()];
   agent_->add_value(value);
 }
 

@@ -17,7 +17,7 @@ namespace mtc::bridge::bench {
 struct FedItem {
   std::string device_uuid;
   std::string id;
-  std::vector<std::string> values;  // cycled by the feeder
+  std::vector<core::ObservedState> values;  // cycled by the feeder
 };
 
 class DemoCell {

@@ -26,8 +26,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
-#include "mtc/dds/topics.hpp"
 
 namespace mtc::bench {
 namespace {
@@ -129,10 +129,10 @@ class Probe {
   // as it is, so no TransitionEvent: it is timed when the executor hands
   // the new value to the application, the same point in the pipeline.
   void on_value(const dds::ObservedValue& v) {
-    if (v.kind != dds::ItemKind::Interaction || v.heartbeat_count != 0 || v.value != "READY") {
+    if (v.heartbeat_count != 0 || v.state.interaction() != core::InteractionState::Ready) {
       return;
     }
-    const auto now = dds::topics::realtime_ns();
+    const auto now = dds::detail::topics::realtime_ns();
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!completed_ || ready_seen_ns_ != 0) {
@@ -168,7 +168,7 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes) {
   const int warmup = 20;
   for (int i = 0; i < warmup + handshakes; ++i) {
     probe.arm();
-    const auto t0 = dds::topics::realtime_ns();
+    const auto t0 = dds::detail::topics::realtime_ns();
     // The first request also waits for discovery and pairing.
     const auto result = req.request(dds::RequestOptions{i == 0 ? 10000ms : 2000ms}).get();
     const auto both_ready =

@@ -52,8 +52,8 @@ class AgentImpl final : public MtconnectAgent {
   std::uint64_t subscribe(std::function<void()> on_new_data) override;
   void unsubscribe(std::uint64_t id) override;
 
-  void add_device(const dds::ObservedDevice& device) override;
-  void add_value(const dds::ObservedValue& value) override;
+  void add_device(const core::ObservedDevice& device) override;
+  void add_value(const core::ObservedValue& value) override;
   void items_lost(const std::string& device_uuid,
                   const std::vector<std::string>& data_item_ids) override;
   void device_lost(const std::string& device_uuid) override;
@@ -72,8 +72,8 @@ class AgentImpl final : public MtconnectAgent {
   // device under another uuid but the same name).
   const std::string& model_uuid(const std::string& dds_uuid) const;
   // Devices-file models: find (or map) the file's item for a DDS item.
-  void resolve_announced(const dds::ObservedDevice& device);
-  std::optional<std::size_t> resolve_value(const dds::ObservedValue& value);
+  void resolve_announced(const core::ObservedDevice& device);
+  std::optional<std::size_t> resolve_value(const core::ObservedValue& value);
 
   // --- requests (caller holds data_ shared) ---
   Routed route_target(std::string_view target);
@@ -97,10 +97,10 @@ class AgentImpl final : public MtconnectAgent {
   DeviceModel model_;
   SlotRegistry slots_;
   ObservationBuffer buffer_;
-  std::vector<dds::ObservedDevice> announced_;
+  std::vector<core::ObservedDevice> announced_;
   // Announcement models: latest value of items not (yet) in the model,
   // applied when an announcement brings them.
-  std::map<std::pair<std::string, std::string>, dds::ObservedValue> pending_;
+  std::map<std::pair<std::string, std::string>, core::ObservedValue> pending_;
   AgentStats stats_;
   std::unordered_map<std::string, std::string> uuid_aliases_;  // DDS uuid -> file uuid
   std::set<std::pair<std::string, std::string>> warned_;       // unknown items reported

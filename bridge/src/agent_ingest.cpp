@@ -19,7 +19,7 @@ std::int64_t now_ns() {
       .count();
 }
 
-bool same_items(const dds::ObservedInterface& a, const dds::ObservedInterface& b) {
+bool same_items(const core::ObservedInterface& a, const core::ObservedInterface& b) {
   if (a.id != b.id || a.name != b.name || a.type != b.type ||
       a.data_items.size() != b.data_items.size()) {
     return false;
@@ -35,7 +35,7 @@ bool same_items(const dds::ObservedInterface& a, const dds::ObservedInterface& b
   return true;
 }
 
-bool same_device(const dds::ObservedDevice& a, const dds::ObservedDevice& b) {
+bool same_device(const core::ObservedDevice& a, const core::ObservedDevice& b) {
   if (a.name != b.name || a.interfaces.size() != b.interfaces.size()) return false;
   for (std::size_t i = 0; i < a.interfaces.size(); ++i) {
     if (!same_items(a.interfaces[i], b.interfaces[i])) return false;
@@ -109,10 +109,9 @@ void AgentImpl::rebuild_model() {
   mark_unobserved_unavailable(model_change_ns_);
   for (auto it = pending_.begin(); it != pending_.end();) {
     if (const auto item = model_.find_item(it->first.first, it->first.second)) {
-      const dds::ObservedValue& v = it->second;
+      const core::ObservedValue& v = it->second;
       const std::int64_t t = v.source_time_ns ? v.source_time_ns : model_change_ns_;
-      append_if_changed(model_.data_items()[*item].slot, v.value.empty() ? kUnavailable : v.value,
-                        t);
+      append_if_changed(model_.data_items()[*item].slot, core::to_string(v.state), t);
       it = pending_.erase(it);
     } else {
       ++it;
@@ -125,40 +124,40 @@ const std::string& AgentImpl::model_uuid(const std::string& dds_uuid) const {
   return it == uuid_aliases_.end() ? dds_uuid : it->second;
 }
 
-void AgentImpl::resolve_announced(const dds::ObservedDevice& device) {
+void AgentImpl::resolve_announced(const core::ObservedDevice& device) {
   const std::string& uuid = model_uuid(device.device_uuid);
-  for (const dds::ObservedInterface& itf : device.interfaces) {
-    for (const dds::ObservedDataItem& di : itf.data_items) {
+  for (const core::ObservedInterface& itf : device.interfaces) {
+    for (const core::ObservedDataItem& di : itf.data_items) {
       const ItemHint hint{itf.id, std::string(core::element_name(itf.type)), di.type, di.sub_type};
       model_.resolve_item(uuid, di.id, hint);
     }
   }
 }
 
-std::optional<std::size_t> AgentImpl::resolve_value(const dds::ObservedValue& value) {
+std::optional<std::size_t> AgentImpl::resolve_value(const core::ObservedValue& value) {
   const std::string& uuid = model_uuid(value.device_uuid);
   if (!from_file_) return model_.find_item(uuid, value.data_item_id);
   ItemHint hint;
   hint.interface_id = value.interface_id;
-  switch (value.kind) {
-    case dds::ItemKind::Interaction:
+  switch (value.kind()) {
+    case core::ItemKind::Interaction:
       if (value.service) hint.type = std::string(core::to_string(*value.service));
       if (value.sub_type) hint.sub_type = std::string(core::to_string(*value.sub_type));
       break;
-    case dds::ItemKind::InterfaceState: hint.type = "INTERFACE_STATE"; break;
-    case dds::ItemKind::DoorState: hint.type = "DOOR_STATE"; break;
-    case dds::ItemKind::ChuckState: hint.type = "CHUCK_STATE"; break;
+    case core::ItemKind::InterfaceState: hint.type = "INTERFACE_STATE"; break;
+    case core::ItemKind::DoorState: hint.type = "DOOR_STATE"; break;
+    case core::ItemKind::ChuckState: hint.type = "CHUCK_STATE"; break;
   }
-  for (const dds::ObservedDevice& d : announced_) {
+  for (const core::ObservedDevice& d : announced_) {
     if (d.device_uuid != value.device_uuid) continue;
-    for (const dds::ObservedInterface& itf : d.interfaces) {
+    for (const core::ObservedInterface& itf : d.interfaces) {
       if (itf.id == value.interface_id) hint.interface_element = core::element_name(itf.type);
     }
   }
   return model_.resolve_item(uuid, value.data_item_id, hint);
 }
 
-void AgentImpl::add_device(const dds::ObservedDevice& device) {
+void AgentImpl::add_device(const core::ObservedDevice& device) {
   std::size_t before = 0;
   std::size_t after = 0;
   {
@@ -187,7 +186,7 @@ void AgentImpl::add_device(const dds::ObservedDevice& device) {
   notify(after - before);
 }
 
-void AgentImpl::add_value(const dds::ObservedValue& value) {
+void AgentImpl::add_value(const core::ObservedValue& value) {
   std::size_t appended = 0;
   std::string warning;
   {
@@ -216,7 +215,7 @@ void AgentImpl::add_value(const dds::ObservedValue& value) {
                            : value.reception_time_ns ? value.reception_time_ns
                                                      : now_ns();
     const DataItemInfo& info = model_.data_items()[*item];
-    append_if_changed(info.slot, value.value.empty() ? kUnavailable : value.value, t);
+    append_if_changed(info.slot, core::to_string(value.state), t);
     // A device that sends values is reachable, announced or not.
     set_available(info.device, t);
     appended = buffer_.next_sequence() - before;

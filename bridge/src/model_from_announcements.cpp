@@ -38,12 +38,12 @@ class IdMaker {
 // DDS ids are unique per device only, XML ids per document. An interface or
 // item id that several devices use is qualified with the device id on every
 // one of them, so the result does not depend on announcement order.
-std::map<std::string, int> count_ids(const std::vector<dds::ObservedDevice>& devices) {
+std::map<std::string, int> count_ids(const std::vector<core::ObservedDevice>& devices) {
   std::map<std::string, int> uses;
-  for (const dds::ObservedDevice& d : devices) {
-    for (const dds::ObservedInterface& itf : d.interfaces) {
+  for (const core::ObservedDevice& d : devices) {
+    for (const core::ObservedInterface& itf : d.interfaces) {
       ++uses[itf.id];
-      for (const dds::ObservedDataItem& di : itf.data_items) ++uses[di.id];
+      for (const core::ObservedDataItem& di : itf.data_items) ++uses[di.id];
     }
   }
   return uses;
@@ -51,13 +51,13 @@ std::map<std::string, int> count_ids(const std::vector<dds::ObservedDevice>& dev
 
 }  // namespace
 
-DeviceModel DeviceModel::from_announcements(const std::vector<dds::ObservedDevice>& devices,
+DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevice>& devices,
                                             SchemaVersion version, SlotRegistry& slots) {
   DeviceModel model;
   IdMaker ids;
   const std::map<std::string, int> uses = count_ids(devices);
   pugi::xml_node root = model.doc_.append_child("Devices");
-  for (const dds::ObservedDevice& announced : devices) {
+  for (const core::ObservedDevice& announced : devices) {
     const std::string& name = announced.name.empty() ? announced.device_uuid : announced.name;
     pugi::xml_node dev = root.append_child("Device");
     const std::string dev_id = ids.make(name, "device");
@@ -77,7 +77,7 @@ DeviceModel DeviceModel::from_announcements(const std::vector<dds::ObservedDevic
       return it != uses.end() && it->second > 1 ? dev_id + "_" + id : id;
     };
     pugi::xml_node interfaces;
-    for (const dds::ObservedInterface& itf : announced.interfaces) {
+    for (const core::ObservedInterface& itf : announced.interfaces) {
       const std::string_view element = core::element_name(itf.type);
       if (!devices_schema_has(version, element)) continue;
       if (!interfaces) {
@@ -89,7 +89,7 @@ DeviceModel DeviceModel::from_announcements(const std::vector<dds::ObservedDevic
       comp.append_attribute("id") = ids.make(qualified(itf.id), "interface").c_str();
       if (!itf.name.empty()) comp.append_attribute("name") = itf.name.c_str();
       pugi::xml_node items;
-      for (const dds::ObservedDataItem& di : itf.data_items) {
+      for (const core::ObservedDataItem& di : itf.data_items) {
         if (di.type.empty() || di.id.empty()) continue;
         if (!items) items = comp.append_child("DataItems");
         pugi::xml_node node = items.append_child("DataItem");

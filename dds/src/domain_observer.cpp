@@ -8,13 +8,16 @@
 
 #include "domain_tap.hpp"
 #include "executor.hpp"
-#include "mtc/dds/entities.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {
 
+namespace topics = detail::topics;
 using detail::Handle;
+using detail::Participant;
 using detail::TopicKind;
 
 namespace {
@@ -108,10 +111,11 @@ struct DomainObserver::Impl {
     if (e.alive) return;  // values resume with the next sample
     const auto it = writers.find(e.writer);
     if (it == writers.end()) return;
-    // A lease expiry always follows about a lease of silence; an earlier one
-    // is spurious (an unmatched writer, though, is gone at once).
-    const auto silence = std::chrono::nanoseconds(topics::realtime_ns() - it->second.last_ns);
-    if (!e.unmatched && silence < options.timing.lease() / 2) return;
+    // An unmatched writer is gone at once; a lease expiry must be due.
+    if (!e.unmatched &&
+        detail::expiry_is_premature(it->second.last_ns, topics::realtime_ns(), options.timing)) {
+      return;
+    }
     if (it->second.description) {
       device_lost(it->second.device);
     } else {
@@ -132,8 +136,14 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
     : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
   impl_->callbacks = std::move(callbacks);
+  if (!options.qos_profile.empty()) {
+    throw ConfigError("DomainObserver: QoS profile '" + options.qos_profile +
+                      "' selects nothing: the observer reads with the " +
+                      std::string(qos::kStateObserverProfile) +
+                      " preset derived from its timing; leave the profile empty");
+  }
   try {
-    (void)qos::preset(options.qos_profile, options.timing);
+    qos::validate(options.timing);
   } catch (const std::invalid_argument& e) {
     throw ConfigError(std::string("DomainObserver: ") + e.what());
   }
@@ -152,7 +162,7 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   detail::TapConfig tc;
   tc.partitions = {"*"};
   tc.timing = options.timing;
-  tc.request_deadline = false;
+  tc.observer = true;
   impl->tap = std::make_unique<detail::DomainTap>(
       *impl->participant, *impl->topics, tc, [impl](detail::TapEvent&& event) {
         impl->executor.post([impl, ev = std::move(event)]() mutable {

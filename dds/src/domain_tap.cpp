@@ -4,7 +4,8 @@
 
 #include <cstring>
 
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/return_code.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/presets.hpp"
@@ -13,12 +14,12 @@ namespace mtc::dds::detail {
 
 namespace {
 
-std::string spell(std::optional<core::InteractionState> s, int raw) {
-  return s ? std::string(core::to_string(*s)) : "INVALID(" + std::to_string(raw) + ")";
-}
-template <typename Core>
-std::string spell_state(std::optional<Core> s, int raw) {
-  return s ? std::string(core::to_string(*s)) : "INVALID(" + std::to_string(raw) + ")";
+// The sample's state as a core enum; a number outside the vocabulary is kept
+// as sent, so that the runtime can tell it from every known state.
+template <typename IdlValue>
+ObservedState observed_state(ItemKind kind, IdlValue value) {
+  if (const auto known = topics::from_idl(value)) return *known;
+  return ObservedState::outside_vocabulary(kind, static_cast<std::int32_t>(value));
 }
 
 ObservedValue base(std::string device, std::string item, std::string iface,
@@ -35,33 +36,33 @@ ObservedValue base(std::string device, std::string item, std::string iface,
 }
 
 ObservedValue observe(const idl::InteractionSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::Interaction;
+  auto v =
+      base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(),
+           s.sequence_number(), s.heartbeat_count(), s.source_time_ns());
   v.service = topics::from_idl(s.service());
   v.sub_type = topics::from_idl(s.sub_type());
-  v.value = spell(topics::from_idl(s.state()), static_cast<int>(s.state()));
+  v.state = observed_state(ItemKind::Interaction, s.state());
   return v;
 }
-ObservedValue observe(const idl::InterfaceStateSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::InterfaceState;
-  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
-  return v;
+
+// INTERFACE_STATE, DOOR_STATE and CHUCK_STATE samples differ only in the
+// type of their state.
+constexpr ItemKind kind_of(const idl::InterfaceStateSample&) {
+  return ItemKind::InterfaceState;
 }
-ObservedValue observe(const idl::DoorStateSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::DoorState;
-  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
-  return v;
+constexpr ItemKind kind_of(const idl::DoorStateSample&) {
+  return ItemKind::DoorState;
 }
-ObservedValue observe(const idl::ChuckStateSample& s) {
-  auto v = base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(), s.sequence_number(),
-                s.heartbeat_count(), s.source_time_ns());
-  v.kind = ItemKind::ChuckState;
-  v.value = spell_state(topics::from_idl(s.state()), static_cast<int>(s.state()));
+constexpr ItemKind kind_of(const idl::ChuckStateSample&) {
+  return ItemKind::ChuckState;
+}
+
+template <typename StateSample>
+ObservedValue observe(const StateSample& s) {
+  auto v =
+      base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(),
+           s.sequence_number(), s.heartbeat_count(), s.source_time_ns());
+  v.state = observed_state(kind_of(s), s.state());
   return v;
 }
 
@@ -74,7 +75,7 @@ class TapListener final : public fdds::DataReaderListener {
   void on_data_available(fdds::DataReader* reader) override {
     Sample sample;
     fdds::SampleInfo info;
-    while (reader->take_next_sample(&sample, &info) == ReturnCode::RETCODE_OK) {
+    while (reader->take_next_sample(&sample, &info) == detail::ReturnCode::RETCODE_OK) {
       if (info.valid_data) {
         emit(sample, info);
       } else if (info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
@@ -169,6 +170,13 @@ const char* topic_name(TopicKind kind) noexcept {
 
 namespace {
 
+// Registers an IDL type (once per participant) and returns its name.
+template <typename PubSub>
+std::string registered(Participant& participant) {
+  participant.register_type(idl::type_support<PubSub>());
+  return type_name<PubSub>();
+}
+
 // Registers the IDL type of a topic and creates it.
 std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
                                   const qos::Timing& timing) {
@@ -176,24 +184,19 @@ std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
   switch (kind) {
     case TopicKind::Request:
     case TopicKind::Response:
-      participant.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
-      type = type_name<idl::InteractionSamplePubSubType>();
+      type = registered<idl::InteractionSamplePubSubType>(participant);
       break;
     case TopicKind::InterfaceState:
-      participant.register_type(idl::type_support<idl::InterfaceStateSamplePubSubType>());
-      type = type_name<idl::InterfaceStateSamplePubSubType>();
+      type = registered<idl::InterfaceStateSamplePubSubType>(participant);
       break;
     case TopicKind::DoorState:
-      participant.register_type(idl::type_support<idl::DoorStateSamplePubSubType>());
-      type = type_name<idl::DoorStateSamplePubSubType>();
+      type = registered<idl::DoorStateSamplePubSubType>(participant);
       break;
     case TopicKind::ChuckState:
-      participant.register_type(idl::type_support<idl::ChuckStateSamplePubSubType>());
-      type = type_name<idl::ChuckStateSamplePubSubType>();
+      type = registered<idl::ChuckStateSamplePubSubType>(participant);
       break;
     case TopicKind::DeviceDescription:
-      participant.register_type(idl::type_support<idl::DeviceDescriptionPubSubType>());
-      type = type_name<idl::DeviceDescriptionPubSubType>();
+      type = registered<idl::DeviceDescriptionPubSubType>(participant);
       return std::make_unique<Topic>(participant, topic_name(kind), type,
                                      qos::device_description_topic(timing).topic_qos());
   }
@@ -237,16 +240,11 @@ std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const Ta
 }
 
 fdds::DataReaderQos reader_qos(TopicKind kind, const TapConfig& config) {
-  auto preset = kind == TopicKind::DeviceDescription ? qos::device_description_topic(config.timing)
-                                                     : qos::state_topic(config.timing);
-  auto q = preset.reader_qos();
-  if (!config.request_deadline) {
-    q.deadline().period = eprosima::fastrtps::c_TimeInfinite;
+  if (kind == TopicKind::DeviceDescription) {
+    return qos::device_description_topic(config.timing).reader_qos();
   }
-  // A reader sees every device's items: allow more instances than a writer.
-  q.resource_limits().max_instances = 16384;
-  q.resource_limits().max_samples = 16384 * q.resource_limits().max_samples_per_instance;
-  return q;
+  return config.observer ? qos::state_observer_topic(config.timing).reader_qos()
+                         : qos::state_topic(config.timing).reader_qos();
 }
 
 }  // namespace

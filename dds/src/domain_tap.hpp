@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -12,8 +13,8 @@
 #include <variant>
 #include <vector>
 
+#include "mtc/dds/detail/entities.hpp"
 #include "mtc/dds/domain_observer.hpp"
-#include "mtc/dds/entities.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 #include "mtc/qos/timing.hpp"
 
@@ -71,9 +72,11 @@ using TapSink = std::function<void(TapEvent&&)>;
 struct TapConfig {
   std::vector<std::string> partitions;
   qos::Timing timing;
-  // Observer mode requests no DEADLINE so that it matches devices with any
-  // heartbeat; equipment mode requests the preset's DEADLINE.
-  bool request_deadline = true;
+  // Reader QoS of the state topics: an equipment's readers use the state
+  // preset (its DEADLINE is the heartbeat contract); an observer's use the
+  // state_observer preset (no DEADLINE: devices of any heartbeat match).
+  // Announcements are read with the device_description preset either way.
+  bool observer = false;
   // Which topics to read (indexed by TopicKind).
   std::array<bool, kTopicKindCount> topics{true, true, true, true, true, true};
 };
@@ -107,7 +110,18 @@ class DomainTap {
 
 const char* topic_name(TopicKind kind) noexcept;
 
-// Sample -> plain value conversions (MTConnect spelling of the state).
+// A writer's liveliness lease expiry (WriterLivelinessEvent, not alive, not
+// unmatched) is a loss only after about a lease of silence: Fast DDS 2.9
+// occasionally reports one right after a writer's first samples. True when
+// the writer was heard (last_heard_ns, CLOCK_REALTIME; 0 = never) less than
+// half a lease before now_ns: the expiry is to be ignored.
+constexpr bool expiry_is_premature(std::int64_t last_heard_ns, std::int64_t now_ns,
+                                   const qos::Timing& timing) noexcept {
+  return last_heard_ns != 0 &&
+         std::chrono::nanoseconds(now_ns - last_heard_ns) < timing.lease() / 2;
+}
+
+// Sample -> plain value conversions (states as core enums).
 ObservedDevice to_observed(const idl::DeviceDescription& d);
 Handle to_handle(const eprosima::fastrtps::rtps::InstanceHandle_t& h) noexcept;
 

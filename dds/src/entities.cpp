@@ -1,36 +1,12 @@
-#include "mtc/dds/entities.hpp"
+#include "mtc/dds/detail/entities.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include <iostream>
 
-namespace mtc::dds {
+#include "mtc/dds/detail/return_code.hpp"
 
-std::string Error::name(const ReturnCode& code) {
-  switch (code()) {
-    case ReturnCode::RETCODE_OK: return "RETCODE_OK";
-    case ReturnCode::RETCODE_ERROR: return "RETCODE_ERROR";
-    case ReturnCode::RETCODE_UNSUPPORTED: return "RETCODE_UNSUPPORTED";
-    case ReturnCode::RETCODE_BAD_PARAMETER: return "RETCODE_BAD_PARAMETER";
-    case ReturnCode::RETCODE_PRECONDITION_NOT_MET: return "RETCODE_PRECONDITION_NOT_MET";
-    case ReturnCode::RETCODE_OUT_OF_RESOURCES: return "RETCODE_OUT_OF_RESOURCES";
-    case ReturnCode::RETCODE_NOT_ENABLED: return "RETCODE_NOT_ENABLED";
-    case ReturnCode::RETCODE_IMMUTABLE_POLICY: return "RETCODE_IMMUTABLE_POLICY";
-    case ReturnCode::RETCODE_INCONSISTENT_POLICY: return "RETCODE_INCONSISTENT_POLICY";
-    case ReturnCode::RETCODE_ALREADY_DELETED: return "RETCODE_ALREADY_DELETED";
-    case ReturnCode::RETCODE_TIMEOUT: return "RETCODE_TIMEOUT";
-    case ReturnCode::RETCODE_NO_DATA: return "RETCODE_NO_DATA";
-    case ReturnCode::RETCODE_ILLEGAL_OPERATION: return "RETCODE_ILLEGAL_OPERATION";
-    case ReturnCode::RETCODE_NOT_ALLOWED_BY_SECURITY: return "RETCODE_NOT_ALLOWED_BY_SECURITY";
-    default: return "RETCODE_" + std::to_string(code());
-  }
-}
-
-void check(const ReturnCode& code, const std::string& what) {
-  if (code != ReturnCode::RETCODE_OK) {
-    throw Error(what, code);
-  }
-}
+namespace mtc::dds::detail {
 
 namespace {
 
@@ -38,7 +14,7 @@ namespace {
 // (the participant's delete_contained_entities cleans up anyway).
 void report(const ReturnCode& code, const char* what) {
   if (code != ReturnCode::RETCODE_OK) {
-    std::cerr << "mtc::dds: " << what << " failed: " << Error::name(code) << '\n';
+    std::cerr << "mtc::dds: " << what << " failed: " << detail::return_code_name(code) << '\n';
   }
 }
 
@@ -150,4 +126,4 @@ Reader::Reader(Subscriber& subscriber, Topic& topic, const fdds::DataReaderQos& 
 
 Reader::~Reader() { report(subscriber_.get().delete_datareader(reader_), "delete_datareader"); }
 
-}  // namespace mtc::dds
+}  // namespace mtc::dds::detail

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "equipment_impl.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {
@@ -175,16 +175,18 @@ void Equipment::add_interface(InterfaceConfig config) {
   }
   if (config.name.empty()) config.name = config.id;
   auto itf = std::make_unique<InterfaceSlot>();
-  itf->door = config.initial_door_state;
-  itf->chuck = config.initial_chuck_state;
-  // A door/chuck this equipment does not control never blocks its services
-  // (UNLATCHED permits both directions).
-  itf->hook.set_door_state(config.publishes_door_state ? itf->door : core::DoorState::Unlatched);
-  itf->hook.set_chuck_state(config.publishes_chuck_state ? itf->chuck
-                                                         : core::ChuckState::Unlatched);
   itf->state_item.id = topics::interface_state_item_id(config.id);
-  itf->door_item.id = topics::door_state_item_id(config.id);
-  itf->chuck_item.id = topics::chuck_state_item_id(config.id);
+  detail::for_door_and_chuck([&](auto tag) {
+    using State = typename decltype(tag)::type;
+    using Traits = detail::DoorChuck<State>;
+    auto& dc = itf->door_chuck_item<State>();
+    dc.published = Traits::published(config);
+    dc.state = Traits::initial(config);
+    dc.item.id = Traits::item_id(config.id);
+    // A door/chuck this equipment does not control never blocks its
+    // services (UNLATCHED permits both directions).
+    Traits::apply(itf->hook, dc.published ? dc.state : State::Unlatched);
+  });
   itf->config = std::move(config);
   impl_->interfaces.push_back(std::move(itf));
 }
@@ -255,34 +257,31 @@ std::future<void> Equipment::set_interface_state(const std::string& interface_id
   });
 }
 
+// The new state moves the responders' precondition hook, is published as a
+// change, and may turn READY responders NOT_READY or back (reevaluate).
+template <typename State>
+std::future<void> EquipmentImpl::set_door_chuck(const std::string& interface_id, State state) {
+  auto* itf = &interface_slot(interface_id);
+  if (!itf->door_chuck_item<State>().published) {
+    throw ConfigError("interface " + interface_id + " does not publish " +
+                      std::string(detail::DoorChuck<State>::item_type));
+  }
+  return run<void>([this, itf, state] {
+    itf->door_chuck_item<State>().state = state;
+    detail::DoorChuck<State>::apply(itf->hook, state);
+    publish_door_chuck<State>(*itf, false, topics::realtime_ns());
+    handle_batch(*itf, itf->model->reevaluate(SteadyClock::now()));
+  });
+}
+
 std::future<void> Equipment::set_door_state(const std::string& interface_id,
                                             core::DoorState state) {
-  auto* impl = impl_.get();
-  auto* itf = &impl->interface_slot(interface_id);
-  if (!itf->config.publishes_door_state) {
-    throw ConfigError("interface " + interface_id + " does not publish DOOR_STATE");
-  }
-  return impl->run<void>([impl, itf, state] {
-    itf->door = state;
-    itf->hook.set_door_state(state);
-    impl->publish_door(*itf, false, topics::realtime_ns());
-    impl->handle_batch(*itf, itf->model->reevaluate(SteadyClock::now()));
-  });
+  return impl_->set_door_chuck(interface_id, state);
 }
 
 std::future<void> Equipment::set_chuck_state(const std::string& interface_id,
                                              core::ChuckState state) {
-  auto* impl = impl_.get();
-  auto* itf = &impl->interface_slot(interface_id);
-  if (!itf->config.publishes_chuck_state) {
-    throw ConfigError("interface " + interface_id + " does not publish CHUCK_STATE");
-  }
-  return impl->run<void>([impl, itf, state] {
-    itf->chuck = state;
-    itf->hook.set_chuck_state(state);
-    impl->publish_chuck(*itf, false, topics::realtime_ns());
-    impl->handle_batch(*itf, itf->model->reevaluate(SteadyClock::now()));
-  });
+  return impl_->set_door_chuck(interface_id, state);
 }
 
 void Equipment::post(std::function<void()> task) {

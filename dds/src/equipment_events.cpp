@@ -2,7 +2,7 @@
 // counterpart discovery and pairing, counterpart values fed to the machines,
 // and loss / return of communication (scenario 6).
 #include "equipment_impl.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
 
 namespace mtc::dds {
 
@@ -123,7 +123,7 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     // its first interaction value for one of our services.
     const auto& spec = itf->config.counterpart;
     if (itf->link.load() == LinkState::Unpaired && spec.device_uuid == v.device_uuid &&
-        v.kind == ItemKind::Interaction && v.service && v.sub_type) {
+        v.kind() == ItemKind::Interaction && v.service && v.sub_type) {
       const auto role = *v.sub_type == core::SubType::Request ? core::Role::Responder
                                                               : core::Role::Requester;
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
@@ -132,13 +132,13 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     if (callbacks.on_counterpart_value) {
       guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
     }
-    if (v.kind == ItemKind::InterfaceState && v.value == "UNAVAILABLE") {
+    if (v.state.interface_state() == core::InterfaceState::Unavailable) {
       link_lost(*itf, "counterpart INTERFACE_STATE UNAVAILABLE");
       continue;
     }
     itf->last_heard_ns = v.reception_time_ns;
     if (itf->link.load() != LinkState::Up) link_up(*itf, "value received");
-    if (v.kind != ItemKind::Interaction || !v.service || !v.sub_type) continue;
+    if (v.kind() != ItemKind::Interaction || !v.service || !v.sub_type) continue;
     const auto role =
         *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
     if (auto* slot = slot_for(*itf, *v.service, role)) feed_counterpart(*slot, v, missed_change);
@@ -150,10 +150,11 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
   auto& itf = *interfaces[slot.interface_index];
   auto* machine = itf.model->machine(slot.service, slot.role);
   const auto now = SteadyClock::now();
-  const auto parsed = core::parse_interaction_state(v.value);
+  const auto parsed = v.state.interaction();
   core::StepResult r;
   if (!parsed) {
-    r = machine->on_counterpart_text(v.value, now);
+    // A number outside the vocabulary: the machine reports the violation.
+    r = machine->step(core::Event::SeenInvalid, now);
   } else {
     // The responder's ACTIVE was replaced by COMPLETE before it reached us:
     // its change counter proves a change was skipped, so replay ACTIVE
@@ -183,19 +184,16 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
   try_issue(slot, now);
 }
 
-// A lease or deadline event for something we heard from well within the
-// lease is not a loss: Fast DDS 2.9 occasionally raises a deadline miss for
-// an instance right after its first samples. A real loss always comes after
-// about a lease of silence.
+// A lease expiry for a writer heard from well within the lease is not a
+// loss (detail::expiry_is_premature); say so, since it explains a link that
+// stays up.
 bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
                                    const std::string& what) {
-  const auto silence = std::chrono::nanoseconds(topics::realtime_ns() - last_ns);
-  if (last_ns != 0 && silence < groups[group]->timing.lease() / 2) {
-    diagnostic("ignored " + what + " after only " +
-               std::to_string(silence.count() / 1000000) + " ms of silence");
-    return true;
-  }
-  return false;
+  const auto now = topics::realtime_ns();
+  if (!detail::expiry_is_premature(last_ns, now, groups[group]->timing)) return false;
+  diagnostic("ignored " + what + " after only " + std::to_string((now - last_ns) / 1000000) +
+             " ms of silence");
+  return true;
 }
 
 // A DEADLINE miss is a cue to check, not a verdict on the instance it names:

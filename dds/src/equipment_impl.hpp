@@ -9,15 +9,25 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "domain_tap.hpp"
+#include "door_chuck.hpp"
 #include "executor.hpp"
-#include "mtc/dds/entities.hpp"
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 
 namespace mtc::dds {
+
+// The runtime's internals by their short names.
+namespace fdds = eprosima::fastdds::dds;
+namespace topics = detail::topics;
+using detail::Participant;
+using detail::Publisher;
+using detail::Writer;
 
 using SteadyClock = std::chrono::steady_clock;
 
@@ -54,6 +64,23 @@ struct ServiceSlot {
   std::atomic<core::InteractionState> snap_counterpart{core::InteractionState::Unavailable};
 };
 
+// An interface's DOOR_STATE or CHUCK_STATE item, published when the
+// equipment controls that door or chuck.
+template <typename State>
+struct DoorChuckItem {
+  bool published = false;
+  PublishedItem item;
+  State state = State::Unavailable;
+};
+
+// A timing group's writer of DOOR_STATE or CHUCK_STATE items (created only
+// when one of its interfaces publishes them) and its change counter.
+template <typename State>
+struct DoorChuckWriter {
+  std::unique_ptr<Writer<typename detail::DoorChuck<State>::Sample>> writer;
+  std::uint64_t seq = 0;
+};
+
 // Writers, readers and heartbeat schedule of the interfaces sharing one
 // timing (DEADLINE and liveliness are writer/reader QoS, so interfaces with
 // their own heartbeat get their own endpoints). Group 0 is the equipment's.
@@ -62,16 +89,18 @@ struct TimingGroup {
   std::unique_ptr<Writer<idl::InteractionSample>> request_writer;
   std::unique_ptr<Writer<idl::InteractionSample>> response_writer;
   std::unique_ptr<Writer<idl::InterfaceStateSample>> interface_writer;
-  std::unique_ptr<Writer<idl::DoorStateSample>> door_writer;
-  std::unique_ptr<Writer<idl::ChuckStateSample>> chuck_writer;
+  std::tuple<DoorChuckWriter<core::DoorState>, DoorChuckWriter<core::ChuckState>> door_chuck;
   std::uint64_t request_seq = 0;
   std::uint64_t response_seq = 0;
   std::uint64_t interface_seq = 0;
-  std::uint64_t door_seq = 0;
-  std::uint64_t chuck_seq = 0;
   SteadyClock::time_point next_heartbeat{};
   std::unique_ptr<detail::DomainTap> tap;
   std::array<bool, detail::kTopicKindCount> incompatible_reported{};
+
+  template <typename State>
+  DoorChuckWriter<State>& door_chuck_writer() {
+    return std::get<DoorChuckWriter<State>>(door_chuck);
+  }
 };
 
 struct InterfaceSlot {
@@ -81,15 +110,17 @@ struct InterfaceSlot {
   std::unique_ptr<core::InterfaceModel> model;
   std::vector<std::size_t> services;  // indices into EquipmentImpl::slots
   PublishedItem state_item;
-  PublishedItem door_item;
-  PublishedItem chuck_item;
-  core::DoorState door = core::DoorState::Unavailable;
-  core::ChuckState chuck = core::ChuckState::Unavailable;
+  std::tuple<DoorChuckItem<core::DoorState>, DoorChuckItem<core::ChuckState>> door_chuck;
   // Counterpart binding and link.
   std::string cp_uuid;
   std::string cp_interface;
   std::int64_t last_heard_ns = 0;
   std::atomic<LinkState> link{LinkState::Unpaired};
+
+  template <typename State>
+  DoorChuckItem<State>& door_chuck_item() {
+    return std::get<DoorChuckItem<State>>(door_chuck);
+  }
 };
 
 struct EquipmentImpl {
@@ -135,12 +166,18 @@ struct EquipmentImpl {
   void shutdown() noexcept;
   template <typename R, typename Fn>
   std::future<R> run(Fn fn);
+  // Equipment::set_door_state / set_chuck_state.
+  template <typename State>
+  std::future<void> set_door_chuck(const std::string& interface_id, State state);
 
   // --- publishing (equipment_publish.cpp) ---
   void publish_interaction(ServiceSlot& slot, bool heartbeat, std::int64_t now_ns);
   void publish_interface_state(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
-  void publish_door(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
-  void publish_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
+  // DOOR_STATE or CHUCK_STATE of one interface, if it publishes that item;
+  // defined for core::DoorState and core::ChuckState.
+  template <typename State>
+  void publish_door_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
+  void publish_doors_and_chucks(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
   void publish_description();
   void heartbeat(SteadyClock::time_point now);
   void dispose_all() noexcept;

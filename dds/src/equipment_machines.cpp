@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "equipment_impl.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
 
 namespace mtc::dds {
 

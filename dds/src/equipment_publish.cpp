@@ -1,9 +1,11 @@
 // Equipment: DDS entities, publication of this device's data items, the
 // heartbeat and the DeviceDescription announcement.
+#include <algorithm>
 #include <iostream>
 
 #include "equipment_impl.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {
@@ -60,11 +62,9 @@ bool same_timing(const qos::Timing& a, const qos::Timing& b) {
 void EquipmentImpl::create_group(std::size_t index) {
   auto& g = *groups[index];
   const auto wq = qos::state_topic(g.timing).writer_qos();
-  bool request = false, response = false, door = false, chuck = false;
+  bool request = false, response = false;
   for (const auto& itf : interfaces) {
     if (itf->group != index) continue;
-    door = door || itf->config.publishes_door_state;
-    chuck = chuck || itf->config.publishes_chuck_state;
     for (auto i : itf->services) {
       request = request || slots[i]->role == core::Role::Requester;
       response = response || slots[i]->role == core::Role::Responder;
@@ -81,14 +81,18 @@ void EquipmentImpl::create_group(std::size_t index) {
   }
   g.interface_writer = std::make_unique<Writer<idl::InterfaceStateSample>>(
       *publisher, topics->get(TopicKind::InterfaceState), wq, writer_listener);
-  if (door) {
-    g.door_writer = std::make_unique<Writer<idl::DoorStateSample>>(
-        *publisher, topics->get(TopicKind::DoorState), wq, writer_listener);
-  }
-  if (chuck) {
-    g.chuck_writer = std::make_unique<Writer<idl::ChuckStateSample>>(
-        *publisher, topics->get(TopicKind::ChuckState), wq, writer_listener);
-  }
+  detail::for_door_and_chuck([&](auto tag) {
+    using State = typename decltype(tag)::type;
+    using Traits = detail::DoorChuck<State>;
+    const bool needed = std::any_of(interfaces.begin(), interfaces.end(), [&](const auto& itf) {
+      return itf->group == index && itf->template door_chuck_item<State>().published;
+    });
+    if (needed) {
+      g.template door_chuck_writer<State>().writer =
+          std::make_unique<Writer<typename Traits::Sample>>(*publisher, topics->get(Traits::topic),
+                                                            wq, writer_listener);
+    }
+  });
 }
 
 void EquipmentImpl::create_entities() {
@@ -142,8 +146,7 @@ void EquipmentImpl::create_entities() {
       publish_interaction(s, false, now_ns);
     }
     publish_interface_state(*itf, false, now_ns);
-    if (itf->config.publishes_door_state) publish_door(*itf, false, now_ns);
-    if (itf->config.publishes_chuck_state) publish_chuck(*itf, false, now_ns);
+    publish_doors_and_chucks(*itf, false, now_ns);
   }
   publish_description();
   for (auto& g : groups) g->next_heartbeat = now + g->timing.heartbeat;
@@ -155,7 +158,6 @@ void EquipmentImpl::create_entities() {
     detail::TapConfig tc;
     tc.partitions = reader_partitions(*this);
     tc.timing = groups[g]->timing;
-    tc.request_deadline = true;
     // Announcements are read once, with the equipment's timing.
     tc.topics[static_cast<std::size_t>(detail::TopicKind::DeviceDescription)] = g == 0;
     groups[g]->tap = std::make_unique<detail::DomainTap>(
@@ -202,22 +204,26 @@ void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, bool heartbeat,
   g.interface_writer->write(s);
 }
 
-void EquipmentImpl::publish_door(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
-  auto& g = group_of(itf);
-  touch(itf.door_item, g.door_seq, heartbeat, now_ns);
-  idl::DoorStateSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.door_item, g.door_seq);
-  s.state(topics::to_idl(itf.door));
-  g.door_writer->write(s);
+template <typename State>
+void EquipmentImpl::publish_door_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
+  auto& item = itf.door_chuck_item<State>();
+  if (!item.published) return;
+  auto& w = group_of(itf).door_chuck_writer<State>();
+  touch(item.item, w.seq, heartbeat, now_ns);
+  typename detail::DoorChuck<State>::Sample s;
+  fill_common(s, options.device_uuid, itf.config.id, item.item, w.seq);
+  s.state(topics::to_idl(item.state));
+  w.writer->write(s);
 }
+template void EquipmentImpl::publish_door_chuck<core::DoorState>(InterfaceSlot&, bool,
+                                                                 std::int64_t);
+template void EquipmentImpl::publish_door_chuck<core::ChuckState>(InterfaceSlot&, bool,
+                                                                  std::int64_t);
 
-void EquipmentImpl::publish_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
-  auto& g = group_of(itf);
-  touch(itf.chuck_item, g.chuck_seq, heartbeat, now_ns);
-  idl::ChuckStateSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.chuck_item, g.chuck_seq);
-  s.state(topics::to_idl(itf.chuck));
-  g.chuck_writer->write(s);
+void EquipmentImpl::publish_doors_and_chucks(InterfaceSlot& itf, bool heartbeat,
+                                             std::int64_t now_ns) {
+  detail::for_door_and_chuck(
+      [&](auto tag) { publish_door_chuck<typename decltype(tag)::type>(itf, heartbeat, now_ns); });
 }
 
 namespace {
@@ -245,12 +251,13 @@ void EquipmentImpl::publish_description() {
     i.name(itf->config.name);
     i.interface_type(topics::to_idl(itf->config.type));
     i.data_items().push_back(item(itf->state_item.id, "INTERFACE_STATE", ""));
-    if (itf->config.publishes_door_state) {
-      i.data_items().push_back(item(itf->door_item.id, "DOOR_STATE", ""));
-    }
-    if (itf->config.publishes_chuck_state) {
-      i.data_items().push_back(item(itf->chuck_item.id, "CHUCK_STATE", ""));
-    }
+    detail::for_door_and_chuck([&](auto tag) {
+      using State = typename decltype(tag)::type;
+      const auto& dc = itf->template door_chuck_item<State>();
+      if (dc.published) {
+        i.data_items().push_back(item(dc.item.id, detail::DoorChuck<State>::item_type, ""));
+      }
+    });
     for (auto index : itf->services) {
       const auto& s = *slots[index];
       i.data_items().push_back(item(s.item.id, core::to_string(s.service),
@@ -275,8 +282,7 @@ void EquipmentImpl::heartbeat(SteadyClock::time_point now) {
       if (itf->group != gi) continue;
       for (auto index : itf->services) publish_interaction(*slots[index], true, now_ns);
       publish_interface_state(*itf, true, now_ns);
-      if (itf->config.publishes_door_state) publish_door(*itf, true, now_ns);
-      if (itf->config.publishes_chuck_state) publish_chuck(*itf, true, now_ns);
+      publish_doors_and_chucks(*itf, true, now_ns);
     }
     if (gi == 0) description_writer->assert_liveliness();
     g.next_heartbeat += g.timing.heartbeat;

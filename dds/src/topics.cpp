@@ -1,9 +1,11 @@
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/topics.hpp"
 
+#include <array>
 #include <cctype>
 #include <chrono>
+#include <cstddef>
 
-namespace mtc::dds::topics {
+namespace mtc::dds::detail::topics {
 
 std::string device_partition(std::string_view device_uuid) {
   return std::string(kPartitionPrefix) + std::string(device_uuid);
@@ -40,13 +42,116 @@ std::string lower(std::string_view text) {
 }
 
 template <typename Out, typename In>
-std::optional<Out> checked_cast(In v, int count) noexcept {
-  const int i = static_cast<int>(v);
-  if (i < 0 || i >= count) {
+std::optional<Out> checked_cast(In v, std::size_t count) noexcept {
+  const auto i = static_cast<std::size_t>(v);
+  if (i >= count) {
     return std::nullopt;
   }
   return static_cast<Out>(i);
 }
+
+// The IDL enums beside the core enums, enumerator by enumerator (paired by
+// name). to_idl / from_idl convert by position, so every row must hold the
+// same position on both sides: the static_asserts below fail the build as
+// soon as either side is reordered. A row count below the core enum's
+// (where core says how many there are) fails too.
+template <typename Core, typename Idl>
+struct Pair {
+  Core core;
+  Idl idl;
+};
+
+// Index of the first row whose two enumerators are not both at that
+// position; N when every row is aligned.
+template <typename Core, typename Idl, std::size_t N>
+constexpr std::size_t first_misaligned(const std::array<Pair<Core, Idl>, N>& rows) {
+  for (std::size_t i = 0; i < N; ++i) {
+    if (static_cast<std::size_t>(rows[i].core) != i || static_cast<std::size_t>(rows[i].idl) != i) {
+      return i;
+    }
+  }
+  return N;
+}
+
+namespace is = idl::interaction_state;
+constexpr std::array<Pair<core::InteractionState, is::Value>, 6> kInteractionStates{{
+    {core::InteractionState::Unavailable, is::UNAVAILABLE},
+    {core::InteractionState::NotReady, is::NOT_READY},
+    {core::InteractionState::Ready, is::READY},
+    {core::InteractionState::Active, is::ACTIVE},
+    {core::InteractionState::Complete, is::COMPLETE},
+    {core::InteractionState::Fail, is::FAIL},
+}};
+static_assert(first_misaligned(kInteractionStates) == kInteractionStates.size(),
+              "core::InteractionState and idl::interaction_state differ at that row");
+static_assert(kInteractionStates.size() == core::kAllInteractionStates.size(),
+              "an InteractionState has no IDL counterpart");
+
+namespace its = idl::interface_state;
+constexpr std::array<Pair<core::InterfaceState, its::Value>, 3> kInterfaceStates{{
+    {core::InterfaceState::Unavailable, its::UNAVAILABLE},
+    {core::InterfaceState::Enabled, its::ENABLED},
+    {core::InterfaceState::Disabled, its::DISABLED},
+}};
+static_assert(first_misaligned(kInterfaceStates) == kInterfaceStates.size(),
+              "core::InterfaceState and idl::interface_state differ at that row");
+
+namespace ds = idl::door_state;
+constexpr std::array<Pair<core::DoorState, ds::Value>, 4> kDoorStates{{
+    {core::DoorState::Unavailable, ds::UNAVAILABLE},
+    {core::DoorState::Open, ds::OPEN},
+    {core::DoorState::Unlatched, ds::UNLATCHED},
+    {core::DoorState::Closed, ds::CLOSED},
+}};
+static_assert(first_misaligned(kDoorStates) == kDoorStates.size(),
+              "core::DoorState and idl::door_state differ at that row");
+
+namespace cs = idl::chuck_state;
+constexpr std::array<Pair<core::ChuckState, cs::Value>, 4> kChuckStates{{
+    {core::ChuckState::Unavailable, cs::UNAVAILABLE},
+    {core::ChuckState::Open, cs::OPEN},
+    {core::ChuckState::Unlatched, cs::UNLATCHED},
+    {core::ChuckState::Closed, cs::CLOSED},
+}};
+static_assert(first_misaligned(kChuckStates) == kChuckStates.size(),
+              "core::ChuckState and idl::chuck_state differ at that row");
+
+namespace sv = idl::services;
+constexpr std::array<Pair<core::Service, sv::Service>, 10> kServices{{
+    {core::Service::MaterialFeed, sv::MATERIAL_FEED},
+    {core::Service::MaterialChange, sv::MATERIAL_CHANGE},
+    {core::Service::MaterialRetract, sv::MATERIAL_RETRACT},
+    {core::Service::PartChange, sv::PART_CHANGE},
+    {core::Service::MaterialLoad, sv::MATERIAL_LOAD},
+    {core::Service::MaterialUnload, sv::MATERIAL_UNLOAD},
+    {core::Service::OpenDoor, sv::OPEN_DOOR},
+    {core::Service::CloseDoor, sv::CLOSE_DOOR},
+    {core::Service::OpenChuck, sv::OPEN_CHUCK},
+    {core::Service::CloseChuck, sv::CLOSE_CHUCK},
+}};
+static_assert(first_misaligned(kServices) == kServices.size(),
+              "core::Service and idl::services differ at that row");
+static_assert(kServices.size() == core::kAllServices.size(), "a Service has no IDL counterpart");
+
+namespace st = idl::sub_types;
+constexpr std::array<Pair<core::SubType, st::SubType>, 2> kSubTypes{{
+    {core::SubType::Request, st::REQUEST},
+    {core::SubType::Response, st::RESPONSE},
+}};
+static_assert(first_misaligned(kSubTypes) == kSubTypes.size(),
+              "core::SubType and idl::sub_types differ at that row");
+
+namespace it = idl::interface_types;
+constexpr std::array<Pair<core::InterfaceType, it::InterfaceType>, 4> kInterfaceTypes{{
+    {core::InterfaceType::BarFeeder, it::BAR_FEEDER},
+    {core::InterfaceType::MaterialHandler, it::MATERIAL_HANDLER},
+    {core::InterfaceType::Door, it::DOOR},
+    {core::InterfaceType::Chuck, it::CHUCK},
+}};
+static_assert(first_misaligned(kInterfaceTypes) == kInterfaceTypes.size(),
+              "core::InterfaceType and idl::interface_types differ at that row");
+static_assert(kInterfaceTypes.size() == core::kAllInterfaceTypes.size(),
+              "an InterfaceType has no IDL counterpart");
 
 }  // namespace
 
@@ -97,25 +202,25 @@ idl::interface_types::InterfaceType to_idl(core::InterfaceType t) noexcept {
 }
 
 std::optional<core::InteractionState> from_idl(idl::interaction_state::Value v) noexcept {
-  return checked_cast<core::InteractionState>(v, 6);
+  return checked_cast<core::InteractionState>(v, kInteractionStates.size());
 }
 std::optional<core::InterfaceState> from_idl(idl::interface_state::Value v) noexcept {
-  return checked_cast<core::InterfaceState>(v, 3);
+  return checked_cast<core::InterfaceState>(v, kInterfaceStates.size());
 }
 std::optional<core::DoorState> from_idl(idl::door_state::Value v) noexcept {
-  return checked_cast<core::DoorState>(v, 4);
+  return checked_cast<core::DoorState>(v, kDoorStates.size());
 }
 std::optional<core::ChuckState> from_idl(idl::chuck_state::Value v) noexcept {
-  return checked_cast<core::ChuckState>(v, 4);
+  return checked_cast<core::ChuckState>(v, kChuckStates.size());
 }
 std::optional<core::Service> from_idl(idl::services::Service v) noexcept {
-  return checked_cast<core::Service>(v, 10);
+  return checked_cast<core::Service>(v, kServices.size());
 }
 std::optional<core::SubType> from_idl(idl::sub_types::SubType v) noexcept {
-  return checked_cast<core::SubType>(v, 2);
+  return checked_cast<core::SubType>(v, kSubTypes.size());
 }
 std::optional<core::InterfaceType> from_idl(idl::interface_types::InterfaceType v) noexcept {
-  return checked_cast<core::InterfaceType>(v, 4);
+  return checked_cast<core::InterfaceType>(v, kInterfaceTypes.size());
 }
 
 std::int64_t realtime_ns() noexcept {
@@ -124,4 +229,4 @@ std::int64_t realtime_ns() noexcept {
       .count();
 }
 
-}  // namespace mtc::dds::topics
+}  // namespace mtc::dds::detail::topics

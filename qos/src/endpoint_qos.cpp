@@ -79,6 +79,10 @@ EndpointQos& EndpointQos::max_instances(std::int32_t count) noexcept {
   max_instances_ = count > 0 ? count : 1;
   return *this;
 }
+EndpointQos& EndpointQos::reader_max_instances(std::int32_t count) noexcept {
+  reader_max_instances_ = count > 0 ? count : 1;
+  return *this;
+}
 
 namespace {
 
@@ -142,6 +146,7 @@ fdds::DataReaderQos EndpointQos::reader_qos() const {
   fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
   auto reader = *this;
   if (!keep_all_) reader.keep_last(reader_depth());
+  reader.max_instances(reader_max_instances());
   apply_common(reader, q);
   q.data_sharing().off();
   return q;

@@ -1,4 +1,4 @@
-#include "mtc/qos/participant.hpp"
+#include "mtc/qos/participant_qos.hpp"
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
@@ -52,7 +52,7 @@ fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
 
   auto& transport = q.transport();
   switch (config.transport) {
-    case Transport::Builtin: return q;
+    case Transport::Network: return q;
     case Transport::Loopback:
       transport.use_builtin_transports = false;
       transport.user_transports.push_back(
@@ -90,7 +90,7 @@ std::optional<Transport> parse_transport(std::string_view text) noexcept {
   if (text == "loopback") return Transport::Loopback;
   if (text == "loopback-udp") return Transport::LoopbackUdp;
   if (text == "test") return Transport::LoopbackTest;
-  if (text == "builtin") return Transport::Builtin;
+  if (text == "network") return Transport::Network;
   return std::nullopt;
 }
 
@@ -99,7 +99,7 @@ std::string_view to_string(Transport t) noexcept {
     case Transport::Loopback: return "loopback";
     case Transport::LoopbackUdp: return "loopback-udp";
     case Transport::LoopbackTest: return "test";
-    case Transport::Builtin: return "builtin";
+    case Transport::Network: return "network";
   }
   return "?";
 }

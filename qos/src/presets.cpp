@@ -5,6 +5,16 @@
 
 namespace mtc::qos {
 
+namespace {
+
+// Every data item is an instance: a writer holds its device's items, a
+// reader may see every device's (the Fast DDS default of 10 would silently
+// refuse larger devices and cells).
+constexpr std::int32_t kWriterMaxInstances = 1024;
+constexpr std::int32_t kReaderMaxInstances = 16384;
+
+}  // namespace
+
 void validate(const Timing& timing) {
   using std::chrono::milliseconds;
   if (timing.heartbeat <= milliseconds::zero()) {
@@ -41,7 +51,20 @@ EndpointQos state_topic(const Timing& timing) {
       .liveliness_manual_by_topic(timing.lease())
       .reliable_heartbeat(timing.reliable_heartbeat)
       .shared_ownership()
-      .max_instances(1024);
+      .max_instances(kWriterMaxInstances)
+      .reader_max_instances(kReaderMaxInstances);
+}
+
+EndpointQos state_observer_topic(const Timing& timing) {
+  validate(timing);
+  return EndpointQos()
+      .reliable()
+      .transient_local()
+      .keep_last(1)
+      .reader_depth(8)
+      .liveliness_manual_by_topic(timing.lease())
+      .shared_ownership()
+      .max_instances(kReaderMaxInstances);
 }
 
 EndpointQos device_description_topic(const Timing& timing) {
@@ -53,7 +76,8 @@ EndpointQos device_description_topic(const Timing& timing) {
       .liveliness_manual_by_topic(timing.lease())
       .reliable_heartbeat(timing.reliable_heartbeat)
       .shared_ownership()
-      .max_instances(1024);
+      .max_instances(kWriterMaxInstances)
+      .reader_max_instances(kReaderMaxInstances);
 }
 
 EndpointQos preset(std::string_view name, const Timing& timing) {
@@ -62,6 +86,9 @@ EndpointQos preset(std::string_view name, const Timing& timing) {
   }
   if (name == kDeviceDescriptionProfile) {
     return device_description_topic(timing);
+  }
+  if (name == kStateObserverProfile) {
+    return state_observer_topic(timing);
   }
   std::string known;
   for (const auto& n : preset_names()) {
@@ -72,7 +99,8 @@ EndpointQos preset(std::string_view name, const Timing& timing) {
 }
 
 std::vector<std::string> preset_names() {
-  return {std::string(kStateProfile), std::string(kDeviceDescriptionProfile)};
+  return {std::string(kStateProfile), std::string(kDeviceDescriptionProfile),
+          std::string(kStateObserverProfile)};
 }
 
 std::string profiles_file_path() {

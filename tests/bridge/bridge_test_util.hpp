@@ -13,8 +13,8 @@
 
 namespace mtc::bridge::test {
 
-inline dds::ObservedDataItem item(std::string id, std::string type, std::string sub_type = "") {
-  dds::ObservedDataItem d;
+inline core::ObservedDataItem item(std::string id, std::string type, std::string sub_type = "") {
+  core::ObservedDataItem d;
   d.id = std::move(id);
   d.type = std::move(type);
   d.sub_type = std::move(sub_type);
@@ -22,9 +22,9 @@ inline dds::ObservedDataItem item(std::string id, std::string type, std::string 
   return d;
 }
 
-inline dds::ObservedInterface interface(std::string id, core::InterfaceType type,
-                                        std::vector<dds::ObservedDataItem> items) {
-  dds::ObservedInterface i;
+inline core::ObservedInterface interface(std::string id, core::InterfaceType type,
+                                         std::vector<core::ObservedDataItem> items) {
+  core::ObservedInterface i;
   i.id = std::move(id);
   i.name = i.id;
   i.type = type;
@@ -32,9 +32,9 @@ inline dds::ObservedInterface interface(std::string id, core::InterfaceType type
   return i;
 }
 
-inline dds::ObservedDevice mill() {
+inline core::ObservedDevice mill() {
   using core::InterfaceType;
-  dds::ObservedDevice d;
+  core::ObservedDevice d;
   d.device_uuid = "mill-0001";
   d.name = "mill";
   d.interfaces = {
@@ -58,9 +58,9 @@ inline dds::ObservedDevice mill() {
   return d;
 }
 
-inline dds::ObservedDevice robot() {
+inline core::ObservedDevice robot() {
   using core::InterfaceType;
-  dds::ObservedDevice d;
+  core::ObservedDevice d;
   d.device_uuid = "robot-0001";
   d.name = "robot";
   d.interfaces = {interface("robot_mh", InterfaceType::MaterialHandler,
@@ -74,8 +74,8 @@ inline dds::ObservedDevice robot() {
   return d;
 }
 
-inline dds::ObservedDevice feeder() {
-  dds::ObservedDevice d;
+inline core::ObservedDevice feeder() {
+  core::ObservedDevice d;
   d.device_uuid = "feeder-0001";
   d.name = "feeder";
   d.interfaces = {interface("feeder_bf", core::InterfaceType::BarFeeder,
@@ -91,10 +91,10 @@ inline std::string cell_item(const std::string& itf, const char* service, const 
   return itf + "_" + service + "_" + role;
 }
 
-inline dds::ObservedInterface cell_interface(const std::string& id, core::InterfaceType type,
-                                             std::vector<std::pair<const char*, const char*>> services,
-                                             const char* state_type = nullptr) {
-  std::vector<dds::ObservedDataItem> items{item(id + "_interface_state", "INTERFACE_STATE")};
+inline core::ObservedInterface cell_interface(
+    const std::string& id, core::InterfaceType type,
+    std::vector<std::pair<const char*, const char*>> services, const char* state_type = nullptr) {
+  std::vector<core::ObservedDataItem> items{item(id + "_interface_state", "INTERFACE_STATE")};
   if (state_type) {
     std::string lower(state_type);
     for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -109,9 +109,9 @@ inline dds::ObservedInterface cell_interface(const std::string& id, core::Interf
   return interface(id, type, items);
 }
 
-inline dds::ObservedDevice cell_machine() {
+inline core::ObservedDevice cell_machine() {
   using core::InterfaceType;
-  dds::ObservedDevice d;
+  core::ObservedDevice d;
   d.device_uuid = "cell-machine";
   d.name = "machine";
   d.interfaces = {
@@ -125,9 +125,9 @@ inline dds::ObservedDevice cell_machine() {
   return d;
 }
 
-inline dds::ObservedDevice cell_robot() {
+inline core::ObservedDevice cell_robot() {
   using core::InterfaceType;
-  dds::ObservedDevice d;
+  core::ObservedDevice d;
   d.device_uuid = "cell-robot";
   d.name = "robot";
   d.interfaces = {
@@ -138,8 +138,8 @@ inline dds::ObservedDevice cell_robot() {
   return d;
 }
 
-inline dds::ObservedDevice cell_feeder() {
-  dds::ObservedDevice d;
+inline core::ObservedDevice cell_feeder() {
+  core::ObservedDevice d;
   d.device_uuid = "cell-feeder";
   d.name = "feeder";
   d.interfaces = {cell_interface("bar_feeder", core::InterfaceType::BarFeeder,
@@ -147,13 +147,13 @@ inline dds::ObservedDevice cell_feeder() {
   return d;
 }
 
-inline dds::ObservedValue value(const std::string& uuid, const std::string& id,
-                                const std::string& v, std::int64_t time_ns = 0,
-                                std::uint64_t heartbeat = 0) {
-  dds::ObservedValue o;
+inline core::ObservedValue value(const std::string& uuid, const std::string& id,
+                                 core::ObservedState state, std::int64_t time_ns = 0,
+                                 std::uint64_t heartbeat = 0) {
+  core::ObservedValue o;
   o.device_uuid = uuid;
   o.data_item_id = id;
-  o.value = v;
+  o.state = state;
   o.source_time_ns = time_ns;
   o.heartbeat_count = heartbeat;
   return o;

@@ -47,8 +47,10 @@ TEST(Agent, EveryItemIsUnavailableUntilItsFirstValue) {
 
 TEST(Agent, CurrentShowsLatestValuesWithAttributes) {
   auto agent = test::announced_cell();
-  agent->add_value(value("mill-0001", "mill.material_load.req", "READY", kT0));
-  agent->add_value(value("mill-0001", "mill.material_load.req", "ACTIVE", kT0 + 1500));
+  agent->add_value(
+      value("mill-0001", "mill.material_load.req", core::InteractionState::Ready, kT0));
+  agent->add_value(
+      value("mill-0001", "mill.material_load.req", core::InteractionState::Active, kT0 + 1500));
   Doc d(get(*agent, "/current").body);
   const char* load = "//DeviceStream[@name='mill']/ComponentStream[@component='MaterialHandlerInterface']"
                      "/Events/MaterialLoad";
@@ -65,22 +67,24 @@ TEST(Agent, CurrentShowsLatestValuesWithAttributes) {
 
 TEST(Agent, HeartbeatRepeatsCreateNoObservations) {
   auto agent = test::announced_cell();
-  agent->add_value(value("robot-0001", "robot.mh.state", "ENABLED", kT0));
+  agent->add_value(value("robot-0001", "robot.mh.state", core::InterfaceState::Enabled, kT0));
   const std::uint64_t next = agent->next_sequence();
   for (std::uint64_t hb = 1; hb <= 5; ++hb) {
-    agent->add_value(value("robot-0001", "robot.mh.state", "ENABLED", kT0 + 100, hb));
+    agent->add_value(
+        value("robot-0001", "robot.mh.state", core::InterfaceState::Enabled, kT0 + 100, hb));
   }
   EXPECT_EQ(agent->next_sequence(), next);
   EXPECT_EQ(agent->stats().duplicates, 5u);
   // A "heartbeat" carrying a different value is a change we had missed.
-  agent->add_value(value("robot-0001", "robot.mh.state", "DISABLED", kT0 + 200, 6));
+  agent->add_value(
+      value("robot-0001", "robot.mh.state", core::InterfaceState::Disabled, kT0 + 200, 6));
   EXPECT_EQ(agent->next_sequence(), next + 1);
 }
 
 TEST(Agent, LivelinessLossTurnsItemsUnavailable) {
   auto agent = test::announced_cell();
-  agent->add_value(value("mill-0001", "mill.door.door_state", "OPEN", kT0));
-  agent->add_value(value("mill-0001", "mill.open_door.rsp", "READY", kT0));
+  agent->add_value(value("mill-0001", "mill.door.door_state", core::DoorState::Open, kT0));
+  agent->add_value(value("mill-0001", "mill.open_door.rsp", core::InteractionState::Ready, kT0));
   agent->items_lost("mill-0001", {"mill.door.door_state", "mill.open_door.rsp", "no.such.item"});
   Doc d(get(*agent, "/mill/current").body);
   EXPECT_EQ(d.text("//DoorState[@dataItemId='mill.door.door_state']"), "UNAVAILABLE");
@@ -95,7 +99,7 @@ TEST(Agent, LivelinessLossTurnsItemsUnavailable) {
 
 TEST(Agent, DeviceLossTurnsEveryItemAndAvailabilityUnavailable) {
   auto agent = test::announced_cell();
-  agent->add_value(value("robot-0001", "robot.mh.state", "ENABLED", kT0));
+  agent->add_value(value("robot-0001", "robot.mh.state", core::InterfaceState::Enabled, kT0));
   agent->device_lost("robot-0001");
   Doc d(get(*agent, "/robot/current").body);
   EXPECT_EQ(d.text("//Availability"), "UNAVAILABLE");
@@ -107,7 +111,7 @@ TEST(Agent, DeviceLossTurnsEveryItemAndAvailabilityUnavailable) {
 
 TEST(Agent, ValuesForUnknownItemsAreCountedAndDropped) {
   auto agent = make_agent(test::cell_options());
-  agent->add_value(value("ghost-0001", "ghost.thing", "READY", kT0));
+  agent->add_value(value("ghost-0001", "ghost.thing", core::InteractionState::Ready, kT0));
   EXPECT_EQ(agent->stats().unknown_values, 1u);
   EXPECT_EQ(agent->stats().last_unknown, "ghost-0001/ghost.thing");
   EXPECT_EQ(get(*agent, "/current").status, 200);
@@ -115,7 +119,8 @@ TEST(Agent, ValuesForUnknownItemsAreCountedAndDropped) {
 
 TEST(Agent, ValueBeforeAnnouncementIsAppliedWhenTheDeviceAppears) {
   auto agent = make_agent(test::cell_options());
-  agent->add_value(value("feeder-0001", "feeder.material_feed.rsp", "READY", kT0));
+  agent->add_value(
+      value("feeder-0001", "feeder.material_feed.rsp", core::InteractionState::Ready, kT0));
   agent->add_device(test::feeder());
   Doc d(get(*agent, "/feeder/current").body);
   EXPECT_EQ(d.text("//MaterialFeed"), "READY");
@@ -142,9 +147,10 @@ TEST(Agent, DevicesFileItemsNeverReceivedStayUnavailable) {
   o.on_warning = [&](const std::string& w) { warnings.push_back(w); };
   auto agent = make_agent(o);
   agent->add_device(test::cell_machine());
-  agent->add_value(value("cell-machine", "material_handler_material_load_request", "READY", kT0));
-  agent->add_value(value("cell-machine", "not.in.file", "READY", kT0));
-  agent->add_value(value("cell-machine", "not.in.file", "ACTIVE", kT0));
+  agent->add_value(value("cell-machine", "material_handler_material_load_request",
+                         core::InteractionState::Ready, kT0));
+  agent->add_value(value("cell-machine", "not.in.file", core::InteractionState::Ready, kT0));
+  agent->add_value(value("cell-machine", "not.in.file", core::InteractionState::Active, kT0));
   ASSERT_EQ(warnings.size(), 1u);  // once per item
   EXPECT_NE(warnings[0].find("cell-machine/not.in.file"), std::string::npos);
   Doc d(get(*agent, "/current").body);
@@ -166,10 +172,11 @@ TEST(Agent, DevicesFileDeviceIsFoundByNameWhenTheUuidDiffers) {
   AgentOptions o = test::cell_options();
   o.devices_file = test::devices_file("cell_1.6.xml");
   auto agent = make_agent(o);
-  dds::ObservedDevice robot = test::cell_robot();
+  core::ObservedDevice robot = test::cell_robot();
   robot.device_uuid = "robot-serial-7731";  // the file says cell-robot
   agent->add_device(robot);
-  agent->add_value(value("robot-serial-7731", "material_handler_material_load_response", "READY", kT0));
+  agent->add_value(value("robot-serial-7731", "material_handler_material_load_response",
+                         core::InteractionState::Ready, kT0));
   Doc d(get(*agent, "/robot/current").body);
   EXPECT_EQ(d.text("//MaterialLoad"), "READY");
   EXPECT_EQ(d.text("//Availability"), "AVAILABLE");
@@ -182,7 +189,8 @@ TEST(Agent, DevicesFileItemsAreMatchedByTypeFromValues) {
   AgentOptions o = test::cell_options();
   o.devices_file = test::devices_file("cell_1.6.xml");
   auto agent = make_agent(o);
-  dds::ObservedValue v = value("cell-feeder", "vendor_feed_rsp", "ACTIVE", kT0);
+  core::ObservedValue v =
+      value("cell-feeder", "vendor_feed_rsp", core::InteractionState::Active, kT0);
   v.interface_id = "bar_feeder";
   v.service = core::Service::MaterialFeed;
   v.sub_type = core::SubType::Response;
@@ -203,9 +211,10 @@ TEST(Agent, MalformedDevicesFileThrowsModelError) {
 
 TEST(Agent, CurrentAtAnswersThePastState) {
   auto agent = test::announced_cell();
-  agent->add_value(value("mill-0001", "mill.open_door.rsp", "READY", kT0));
+  agent->add_value(value("mill-0001", "mill.open_door.rsp", core::InteractionState::Ready, kT0));
   const std::uint64_t ready_seq = agent->next_sequence() - 1;
-  agent->add_value(value("mill-0001", "mill.open_door.rsp", "ACTIVE", kT0 + 1));
+  agent->add_value(
+      value("mill-0001", "mill.open_door.rsp", core::InteractionState::Active, kT0 + 1));
   Doc d(get(*agent, "/current?at=" + std::to_string(ready_seq)).body);
   EXPECT_EQ(d.text("//OpenDoor"), "READY");
   EXPECT_EQ(d.number("//Header/@nextSequence"), ready_seq + 1);
@@ -216,7 +225,9 @@ TEST(Agent, SampleHonoursFromCountAndTo) {
   auto agent = test::announced_cell();
   const std::uint64_t start = agent->next_sequence();
   for (int i = 0; i < 10; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req", i % 2 ? "ACTIVE" : "READY", kT0 + i));
+    agent->add_value(value("mill-0001", "mill.material_load.req",
+                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
+                           kT0 + i));
   }
   Doc d(get(*agent, "/sample?from=" + std::to_string(start) + "&count=4").body);
   ASSERT_EQ(d.count("//MaterialLoad"), 4u);
@@ -234,7 +245,9 @@ TEST(Agent, SampleHonoursFromCountAndTo) {
 TEST(Agent, SampleAfterWrapAroundStartsAtFirstSequence) {
   auto agent = test::announced_cell(SchemaVersion::V1_6, 16);
   for (int i = 0; i < 100; ++i) {
-    agent->add_value(value("robot-0001", "robot.open_door.req", i % 2 ? "ACTIVE" : "READY", kT0 + i));
+    agent->add_value(value("robot-0001", "robot.open_door.req",
+                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
+                           kT0 + i));
   }
   Doc d(get(*agent, "/sample").body);
   EXPECT_EQ(d.count("//OpenDoor"), 16u);
@@ -273,14 +286,17 @@ TEST(Agent, PrettyOutputCarriesTheSameDocument) {
 TEST(Agent, CurrentAtWithPathAfterWrapAround) {
   auto agent = test::announced_cell(SchemaVersion::V1_6, 40);
   std::uint64_t seq_of_third = 0;
+  // Consecutive values always differ, so each one is an observation.
+  const auto state_at = [](int i) { return core::kAllInteractionStates[i % 6]; };
   for (int i = 0; i < 100; ++i) {
-    agent->add_value(value("mill-0001", "mill.open_chuck.rsp", "V" + std::to_string(i), kT0 + i));
+    agent->add_value(value("mill-0001", "mill.open_chuck.rsp", state_at(i), kT0 + i));
     if (i == 90) seq_of_third = agent->next_sequence() - 1;
   }
   Doc d(get(*agent, "/current?at=" + std::to_string(seq_of_third) +
                         "&path=//DataItem[@type='OPEN_CHUCK']").body);
   ASSERT_EQ(d.count("//OpenChuck"), 2u);  // mill's and robot's
-  EXPECT_EQ(d.text("//OpenChuck[@dataItemId='mill.open_chuck.rsp']"), "V90");
+  EXPECT_EQ(d.text("//OpenChuck[@dataItemId='mill.open_chuck.rsp']"),
+            core::to_string(state_at(90)));
   EXPECT_EQ(d.text("//OpenChuck[@dataItemId='robot.open_chuck.req']"), "UNAVAILABLE");
 }
 
@@ -298,7 +314,8 @@ TEST(Agent, RepeatedCurrentIsServedFromCacheUntilDataChanges) {
   const std::string a = get(*agent, "/current").body;
   const std::string b = get(*agent, "/current").body;
   EXPECT_EQ(a, b);
-  agent->add_value(value("mill-0001", "mill.material_load.req", "READY", kT0));
+  agent->add_value(
+      value("mill-0001", "mill.material_load.req", core::InteractionState::Ready, kT0));
   const std::string c = get(*agent, "/current").body;
   EXPECT_NE(Doc(c).text("//MaterialLoad[@dataItemId='mill.material_load.req']"), "UNAVAILABLE");
 }

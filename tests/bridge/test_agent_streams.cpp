@@ -34,7 +34,9 @@ TEST(AgentStreams, PartsWalkTheBufferInCountSizedChunks) {
   auto agent = test::announced_cell();
   const std::uint64_t start = agent->next_sequence();
   for (int i = 0; i < 7; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req", i % 2 ? "ACTIVE" : "READY", kT0 + i));
+    agent->add_value(value("mill-0001", "mill.material_load.req",
+                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
+                           kT0 + i));
   }
   Routed r = agent->route("GET", "/sample?interval=10&count=3&from=" + std::to_string(start) +
                                      "&path=//DataItem[@type='MATERIAL_LOAD']");
@@ -68,7 +70,9 @@ TEST(AgentStreams, StreamThatFellBehindGetsOutOfRange) {
   ASSERT_TRUE(r.stream);
   StreamPlan plan = *r.stream;
   for (int i = 0; i < 30; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req", i % 2 ? "ACTIVE" : "READY", kT0 + i));
+    agent->add_value(value("mill-0001", "mill.material_load.req",
+                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
+                           kT0 + i));
   }
   const Response p = agent->next_part(plan);
   EXPECT_EQ(p.status, 400);
@@ -80,7 +84,7 @@ TEST(AgentStreams, CurrentStreamPartsAreCurrentDocuments) {
   Routed r = agent->route("GET", "/robot/current?interval=100");
   ASSERT_TRUE(r.stream);
   StreamPlan plan = *r.stream;
-  agent->add_value(value("robot-0001", "robot.mh.state", "ENABLED", kT0));
+  agent->add_value(value("robot-0001", "robot.mh.state", core::InterfaceState::Enabled, kT0));
   const Response p = agent->next_part(plan);
   Doc d(p.body);
   EXPECT_EQ(d.text("//InterfaceState"), "ENABLED");
@@ -96,12 +100,12 @@ TEST(AgentStreams, WaitForWakesOnNewData) {
   const std::uint64_t id = agent->subscribe([&] { notified.set_value(); });
   auto waiter = std::async(std::launch::async,
                            [&] { return agent->wait_for(next, std::chrono::seconds(30)); });
-  agent->add_value(value("mill-0001", "mill.mh.state", "ENABLED", kT0));
+  agent->add_value(value("mill-0001", "mill.mh.state", core::InterfaceState::Enabled, kT0));
   EXPECT_TRUE(waiter.get());
   EXPECT_EQ(notified.get_future().wait_for(std::chrono::seconds(30)), std::future_status::ready);
   agent->unsubscribe(id);
   // A duplicate adds nothing and notifies nobody.
-  agent->add_value(value("mill-0001", "mill.mh.state", "ENABLED", kT0, 1));
+  agent->add_value(value("mill-0001", "mill.mh.state", core::InterfaceState::Enabled, kT0, 1));
   EXPECT_EQ(agent->next_sequence(), next + 1);
 }
 
@@ -121,7 +125,9 @@ TEST(AgentStreams, ConcurrentProducersAndReaders) {
     });
   }
   for (int i = 0; i < 5000; ++i) {
-    agent->add_value(value("mill-0001", "mill.open_door.rsp", i % 2 ? "ACTIVE" : "READY", kT0 + i));
+    agent->add_value(value("mill-0001", "mill.open_door.rsp",
+                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
+                           kT0 + i));
   }
   stop = true;
   for (auto& t : readers) t.join();

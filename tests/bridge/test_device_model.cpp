@@ -169,8 +169,8 @@ TEST(DeviceModel, AnnouncementsBuildDevicesWithInterfaces) {
 }
 
 TEST(DeviceModel, AnnouncementIdsAreMadeValidAndUnique) {
-  dds::ObservedDevice a = test::feeder();
-  dds::ObservedDevice b = test::feeder();
+  core::ObservedDevice a = test::feeder();
+  core::ObservedDevice b = test::feeder();
   b.device_uuid = "feeder-0002";
   b.name = "feeder 2";                       // space: not an NCName
   b.interfaces[0].data_items[0].id = "1st";  // leading digit

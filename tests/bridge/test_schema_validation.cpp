@@ -73,12 +73,20 @@ class SchemaValidation : public ::testing::TestWithParam<SchemaVersion> {
         << "xmllint not found (Debian package libxml2-utils)";
     agent_ = test::announced_cell(GetParam(), 64);
     for (int i = 0; i < 80; ++i) {  // wraps the 64-entry buffer
-      agent_->add_value(value("mill-0001", "mill.open_door.rsp", i % 2 ? "ACTIVE" : "READY", kT0 + i));
-      agent_->add_value(value("mill-0001", "mill.door.door_state", i % 2 ? "UNLATCHED" : "CLOSED", kT0 + i));
-      agent_->add_value(value("mill-0001", "mill.door.state", i % 2 ? "ENABLED" : "DISABLED", kT0 + i));
+      agent_->add_value(
+          value("mill-0001", "mill.open_door.rsp",
+                i % 2 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
+      agent_->add_value(value("mill-0001", "mill.door.door_state",
+                              i % 2 ? core::DoorState::Unlatched : core::DoorState::Closed,
+                              kT0 + i));
+      agent_->add_value(
+          value("mill-0001", "mill.door.state",
+                i % 2 ? core::InterfaceState::Enabled : core::InterfaceState::Disabled, kT0 + i));
     }
-    agent_->add_value(value("robot-0001", "robot.material_load.rsp", "COMPLETE", kT0));
-    agent_->add_value(value("mill-0001", "mill.chuck.chuck_state", "UNLATCHED", kT0));
+    agent_->add_value(
+        value("robot-0001", "robot.material_load.rsp", core::InteractionState::Complete, kT0));
+    agent_->add_value(
+        value("mill-0001", "mill.chuck.chuck_state", core::ChuckState::Unlatched, kT0));
     agent_->items_lost("mill-0001", {"mill.close_door.rsp"});
   }
 
@@ -117,7 +125,7 @@ TEST_P(SchemaValidation, ErrorsValidate) {
 }
 
 TEST_P(SchemaValidation, OpenDoorValidatesExceptIn16) {
-  agent_->add_value(value("mill-0001", "mill.door.door_state", "OPEN", kT0));
+  agent_->add_value(value("mill-0001", "mill.door.door_state", core::DoorState::Open, kT0));
   const Lint lint = xmllint(test::get(*agent_, "/current").body, schema("MTConnectStreams", GetParam()));
   if (GetParam() != SchemaVersion::V1_6) {
     EXPECT_EQ(lint.exit_code, 0) << lint.output;
@@ -153,7 +161,7 @@ TEST_P(SchemaValidation, ProbeValidates) {
   EXPECT_GT(complaints, 0) << "the 2.0 Devices XSD now accepts interfaces: drop this special case";
   // Without interfaces the 2.0 probe validates.
   auto plain = make_agent(test::cell_options(SchemaVersion::V2_0));
-  dds::ObservedDevice bare = test::mill();
+  core::ObservedDevice bare = test::mill();
   bare.interfaces.clear();
   plain->add_device(bare);
   const Lint bare_lint = xmllint(test::get(*plain, "/probe").body, schema("MTConnectDevices", GetParam()));
@@ -167,9 +175,11 @@ TEST_P(SchemaValidation, SampleCellFileOutputValidates) {
   auto agent = make_agent(o);
   agent->add_device(test::cell_machine());
   agent->add_device(test::cell_robot());
-  agent->add_value(value("cell-machine", "door_open_door_response", "READY", kT0));
-  agent->add_value(value("cell-robot", "door_open_door_request", "ACTIVE", kT0));
-  agent->add_value(value("cell-machine", "door_door_state", "CLOSED", kT0));
+  agent->add_value(
+      value("cell-machine", "door_open_door_response", core::InteractionState::Ready, kT0));
+  agent->add_value(
+      value("cell-robot", "door_open_door_request", core::InteractionState::Active, kT0));
+  agent->add_value(value("cell-machine", "door_door_state", core::DoorState::Closed, kT0));
   const Lint streams = xmllint(test::get(*agent, "/current").body, schema("MTConnectStreams", v));
   EXPECT_EQ(streams.exit_code, 0) << streams.output;
   const Lint sample = xmllint(test::get(*agent, "/sample").body, schema("MTConnectStreams", v));
@@ -208,7 +218,7 @@ TEST(SchemaValidation18, ErrorAndBareDocumentsValidate) {
   ASSERT_TRUE(fs::exists(schema("MTConnectError", SchemaVersion::V1_8)))
       << "MTConnect schemas not found in MTC_SCHEMA_DIR=" << MTC_SCHEMA_DIR;
   auto agent = make_agent(test::cell_options(SchemaVersion::V1_8));
-  dds::ObservedDevice bare = test::mill();
+  core::ObservedDevice bare = test::mill();
   bare.interfaces.clear();
   agent->add_device(bare);
   const Lint error = xmllint(test::get(*agent, "/nodevice/probe").body,

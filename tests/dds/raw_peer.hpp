@@ -10,14 +10,17 @@
 #include <string>
 #include <thread>
 
-#include "mtc/dds/entities.hpp"
-#include "mtc/dds/topics.hpp"
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
-#include "mtc/qos/participant.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds::testing {
+
+// Raw peers build their entities from the runtime's internals.
+using namespace mtc::dds::detail;
 
 class RawPeer {
  public:

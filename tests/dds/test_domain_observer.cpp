@@ -7,17 +7,18 @@
 #include <condition_variable>
 #include <mutex>
 
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/domain_observer.hpp"
-#include "mtc/dds/entities.hpp"
-#include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace {
 
 using namespace std::chrono_literals;
-namespace topics = mtc::dds::topics;
+namespace topics = mtc::dds::detail::topics;
 
 struct Recorder {
   std::mutex mutex;
@@ -66,15 +67,15 @@ class RawDevice {
         mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
     participant_.register_type(
         mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
-    response_topic_ = std::make_unique<mtc::dds::Topic>(
+    response_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_, topics::kInteractionResponse, "mtc::idl::InteractionSample",
         mtc::qos::state_topic().topic_qos());
-    description_topic_ = std::make_unique<mtc::dds::Topic>(
+    description_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_, topics::kDeviceDescription, "mtc::idl::DeviceDescription",
         mtc::qos::device_description_topic().topic_qos());
-    writer_ = std::make_unique<mtc::dds::Writer<mtc::idl::InteractionSample>>(
+    writer_ = std::make_unique<mtc::dds::detail::Writer<mtc::idl::InteractionSample>>(
         publisher_, *response_topic_, mtc::qos::state_topic().writer_qos(), listener_);
-    describer_ = std::make_unique<mtc::dds::Writer<mtc::idl::DeviceDescription>>(
+    describer_ = std::make_unique<mtc::dds::detail::Writer<mtc::idl::DeviceDescription>>(
         publisher_, *description_topic_, mtc::qos::device_description_topic().writer_qos(),
         listener_);
   }
@@ -109,14 +110,14 @@ class RawDevice {
   void drop_writer() { writer_.reset(); }
 
  private:
-  mtc::dds::Participant participant_;
-  mtc::dds::Publisher publisher_;
+  mtc::dds::detail::Participant participant_;
+  mtc::dds::detail::Publisher publisher_;
   std::string uuid_;
   QuietListener listener_;
-  std::unique_ptr<mtc::dds::Topic> response_topic_;
-  std::unique_ptr<mtc::dds::Topic> description_topic_;
-  std::unique_ptr<mtc::dds::Writer<mtc::idl::InteractionSample>> writer_;
-  std::unique_ptr<mtc::dds::Writer<mtc::idl::DeviceDescription>> describer_;
+  std::unique_ptr<mtc::dds::detail::Topic> response_topic_;
+  std::unique_ptr<mtc::dds::detail::Topic> description_topic_;
+  std::unique_ptr<mtc::dds::detail::Writer<mtc::idl::InteractionSample>> writer_;
+  std::unique_ptr<mtc::dds::detail::Writer<mtc::idl::DeviceDescription>> describer_;
 };
 
 mtc::dds::DomainObserverOptions options(int domain) {
@@ -139,8 +140,8 @@ TEST(DomainObserver, SeesAnnouncementsValuesAndLossByLiveliness) {
     EXPECT_EQ(rec.devices[0].interfaces[0].type, mtc::core::InterfaceType::MaterialHandler);
     EXPECT_EQ(rec.devices[0].interfaces[0].data_items.at(0).sub_type, "RESPONSE");
     const auto& v = rec.values[0];
-    EXPECT_EQ(v.value, "READY");
-    EXPECT_EQ(v.kind, mtc::dds::ItemKind::Interaction);
+    EXPECT_EQ(v.state, mtc::core::ObservedState(mtc::core::InteractionState::Ready));
+    EXPECT_EQ(v.kind(), mtc::dds::ItemKind::Interaction);
     EXPECT_EQ(v.service, mtc::core::Service::MaterialLoad);
     EXPECT_EQ(v.sub_type, mtc::core::SubType::Response);
     EXPECT_EQ(v.sequence_number, 1u);
@@ -180,13 +181,32 @@ TEST(DomainObserver, DeviceFilterHidesOtherDevices) {
   ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
   std::lock_guard<std::mutex> lock(rec.mutex);
   for (const auto& v : rec.values) EXPECT_EQ(v.device_uuid, "wanted");
-  EXPECT_EQ(rec.values[0].value, "FAIL");
+  EXPECT_EQ(rec.values[0].state.interaction(), mtc::core::InteractionState::Fail);
+}
+
+// A peer of another implementation may send a number the IDL enum does not
+// name: the observer hands it over as such, never as a known state.
+TEST(DomainObserver, StateOutsideTheVocabularyIsKeptAsSent) {
+  Recorder rec;
+  mtc::dds::DomainObserver observer(options(24), rec.callbacks());
+  RawDevice dev(24, "robot-1");
+  dev.publish(static_cast<mtc::idl::interaction_state::Value>(9), 1);
+  ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  const auto& state = rec.values[0].state;
+  EXPECT_EQ(state.kind(), mtc::dds::ItemKind::Interaction);
+  EXPECT_FALSE(state.in_vocabulary());
+  EXPECT_EQ(state.raw(), 9);
+  EXPECT_FALSE(state.interaction().has_value());
 }
 
 TEST(DomainObserver, BadOptionsThrowTypedErrors) {
   Recorder rec;
   auto o = options(23);
-  o.qos_profile = "no.such.profile";
+  o.qos_profile = "mtc.state";  // endpoint QoS is not selectable
+  EXPECT_THROW(mtc::dds::DomainObserver(o, rec.callbacks()), mtc::dds::ConfigError);
+  o = options(23);
+  o.timing.missed_heartbeats = 1;
   EXPECT_THROW(mtc::dds::DomainObserver(o, rec.callbacks()), mtc::dds::ConfigError);
   o = options(500);
   EXPECT_THROW(mtc::dds::DomainObserver(o, rec.callbacks()), mtc::dds::Error);

@@ -34,6 +34,22 @@ TEST(Compatibility, PresetEndpointsMatch) {
   EXPECT_TRUE(c.reasons.empty());
 }
 
+TEST(Compatibility, ObserverAcceptsLeasesUpToItsOwn) {
+  mtc::qos::Timing observer_timing;
+  observer_timing.missed_heartbeats = 5;  // lease 500 ms
+  ReaderEndpoint observer = reader();
+  observer.qos = mtc::qos::state_observer_topic(observer_timing).reader_qos();
+  mtc::qos::Timing device;  // 100 ms x 3: lease and deadline 300 ms
+  WriterEndpoint w = writer();
+  w.qos = mtc::qos::state_topic(device).writer_qos();
+  EXPECT_TRUE(check_compatibility(w, observer).compatible);
+  device.missed_heartbeats = 6;  // lease 600 ms: longer than the observer's
+  w.qos = mtc::qos::state_topic(device).writer_qos();
+  const auto c = check_compatibility(w, observer);
+  EXPECT_FALSE(c.compatible);
+  EXPECT_TRUE(mentions(c, "liveliness"));
+}
+
 TEST(Compatibility, BestEffortWriterCannotServeReliableReader) {
   auto w = writer();
   w.qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;

@@ -11,7 +11,7 @@
 
 #include <stdexcept>
 
-#include "mtc/qos/participant.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace {
@@ -38,6 +38,28 @@ TEST(Presets, StateTopicHoldsDocumentedPolicies) {
   EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
   EXPECT_EQ(r.history().depth, 8);  // bursts are handed over, not collapsed
   EXPECT_EQ(r.resource_limits().max_samples_per_instance, 8);
+}
+
+TEST(Presets, ObserverReadsStateTopicsByLivelinessWithoutDeadline) {
+  const auto r = mtc::qos::state_observer_topic().reader_qos();
+  EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(r.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  EXPECT_EQ(r.deadline().period, eprosima::fastrtps::c_TimeInfinite);
+  EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+  EXPECT_EQ(r.liveliness().lease_duration, to_duration(300ms));
+  EXPECT_EQ(r.history().depth, 8);
+  EXPECT_EQ(r.resource_limits().max_instances, 16384);
+  // Otherwise the same reader as the equipment's.
+  const auto equipment = mtc::qos::state_topic().reader_qos();
+  EXPECT_EQ(r.resource_limits().max_samples, equipment.resource_limits().max_samples);
+  EXPECT_EQ(r.ownership().kind, equipment.ownership().kind);
+}
+
+TEST(Presets, ReadersHoldEveryDevicesInstancesWritersTheirOwn) {
+  for (const auto& preset : {mtc::qos::state_topic(), mtc::qos::device_description_topic()}) {
+    EXPECT_EQ(preset.writer_qos().resource_limits().max_instances, 1024);
+    EXPECT_EQ(preset.reader_qos().resource_limits().max_instances, 16384);
+  }
 }
 
 TEST(Presets, TimingIsConfigurablePerInterface) {
@@ -117,10 +139,22 @@ void expect_same_reader(const std::string& profile, const fdds::DataReaderQos& c
 }
 
 TEST_F(XmlProfiles, EndpointProfilesMatchCodePresets) {
-  for (const auto& name : mtc::qos::preset_names()) {
+  for (const auto name : {mtc::qos::kStateProfile, mtc::qos::kDeviceDescriptionProfile}) {
     const auto preset = mtc::qos::preset(name);
-    expect_same_writer(name + ".writer", preset.writer_qos());
-    expect_same_reader(name + ".reader", preset.reader_qos());
+    expect_same_writer(std::string(name) + ".writer", preset.writer_qos());
+    expect_same_reader(std::string(name) + ".reader", preset.reader_qos());
+  }
+  // An observer only reads.
+  expect_same_reader(std::string(mtc::qos::kStateObserverProfile) + ".reader",
+                     mtc::qos::state_observer_topic().reader_qos());
+}
+
+TEST_F(XmlProfiles, EveryPresetHasAReaderProfile) {
+  for (const auto& name : mtc::qos::preset_names()) {
+    eprosima::fastrtps::SubscriberAttributes a;
+    EXPECT_EQ(xml::XMLProfileManager::fillSubscriberAttributes(name + ".reader", a),
+              xml::XMLP_ret::XML_OK)
+        << name;
   }
 }
 
@@ -160,11 +194,13 @@ TEST(Profiles, ParticipantProfilesAndTransportNames) {
   EXPECT_EQ(mtc::qos::participant_config("mtc.participant.loopback_udp").transport,
             mtc::qos::Transport::LoopbackUdp);
   EXPECT_THROW(mtc::qos::participant_config("nope"), std::invalid_argument);
-  for (auto t : {mtc::qos::Transport::Loopback, mtc::qos::Transport::LoopbackUdp,
-                 mtc::qos::Transport::LoopbackTest, mtc::qos::Transport::Builtin}) {
+  for (auto t : mtc::qos::kAllTransports) {
     EXPECT_EQ(mtc::qos::parse_transport(mtc::qos::to_string(t)), t);
   }
+  EXPECT_EQ(mtc::qos::to_string(mtc::qos::Transport::Network), "network");
   EXPECT_FALSE(mtc::qos::parse_transport("udp6").has_value());
+  // One name per transport: the former spelling is gone.
+  EXPECT_FALSE(mtc::qos::parse_transport("builtin").has_value());
 }
 
 TEST(Profiles, FilePathPointsAtAnExistingFile) {

@@ -125,18 +125,20 @@ TEST(JsonLine, EscapesAndRoundTripsThroughTheTestReader) {
   EXPECT_FALSE(test::json_field(text, "missing"));
 }
 
-TEST(Profiles, ParticipantProfilesSelectTheTransportEndpointPresetsDoNot) {
+TEST(Profiles, ParticipantProfilesSelectTheTransportEndpointPresetsAreRefused) {
   CommandSpec spec;
   spec.name = "x";
   add_common_options(spec);
   auto common = parse_common_options(
       parse_args(spec, {"--qos-profile", std::string(qos::kLoopbackUdpParticipantProfile)}));
   EXPECT_EQ(common.profile_transport, qos::Transport::LoopbackUdp);
-  EXPECT_TRUE(common.qos_profile.empty());
-  common =
-      parse_common_options(parse_args(spec, {"--qos-profile", std::string(qos::kStateProfile)}));
+  common = parse_common_options(parse_args(spec, {}));
   EXPECT_FALSE(common.profile_transport.has_value());
-  EXPECT_EQ(common.qos_profile, qos::kStateProfile);
+  // The runtime picks endpoint presets itself: naming one selects nothing.
+  for (const auto& preset : qos::preset_names()) {
+    EXPECT_THROW(parse_common_options(parse_args(spec, {"--qos-profile", preset})), UsageError)
+        << preset;
+  }
   EXPECT_THROW(parse_common_options(parse_args(spec, {"--qos-profile", "mtc.fast"})), UsageError);
 }
 

@@ -84,7 +84,7 @@ TEST(CliUsage, UnknownQosProfileExits2AndListsKnownOnes) {
   const MtcRun r = run_mtc({"watch", "--qos-profile", "fast-please"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("unknown QoS profile 'fast-please'"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("mtc.state"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("mtc.participant.loopback_udp"), std::string::npos) << r.err;
 }
 
 TEST(CliUsage, BadDurationExits2) {
@@ -122,13 +122,13 @@ TEST(CliUsage, BadTransportAndProfileForRequestExit2) {
   MtcRun r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service",
                       "MATERIAL_LOAD", "--counterpart", "machine-1", "--transport", "pigeon"});
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--transport expects loopback, loopback-udp, test or builtin"),
+  EXPECT_NE(r.err.find("--transport expects loopback, loopback-udp, test or network"),
             std::string::npos)
       << r.err;
   r = run_mtc({"request", "--device", "robot-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
                "--counterpart", "machine-1", "--qos-profile", "mtc.device_description"});
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("'mtc.state' only"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("is an endpoint preset"), std::string::npos) << r.err;
 }
 
 TEST(CliUsage, InvalidDeviceOrInterfaceIdExits2WithTheRule) {

@@ -5,12 +5,12 @@
 #include <thread>
 #include <vector>
 
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/domain_observer.hpp"
-#include "mtc/dds/entities.hpp"
-#include "mtc/dds/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
-#include "mtc/qos/participant.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::test {
@@ -44,7 +44,7 @@ struct RoguePeer::Impl {
     } else {
       sample.sequence_number(sample.sequence_number() + 1);
       sample.heartbeat_count(0);
-      sample.source_time_ns(dds::topics::realtime_ns());
+      sample.source_time_ns(dds::detail::topics::realtime_ns());
     }
     writer->write(sample);
   }
@@ -60,11 +60,11 @@ struct RoguePeer::Impl {
   }
 
   qos::Timing timing;
-  dds::Participant participant;
-  std::unique_ptr<dds::Topic> topic;
-  std::unique_ptr<dds::Publisher> publisher;
+  dds::detail::Participant participant;
+  std::unique_ptr<dds::detail::Topic> topic;
+  std::unique_ptr<dds::detail::Publisher> publisher;
   Listener listener;
-  std::unique_ptr<dds::Writer<idl::InteractionSample>> writer;
+  std::unique_ptr<dds::detail::Writer<idl::InteractionSample>> writer;
   std::mutex mutex;
   idl::InteractionSample sample;
 
@@ -87,19 +87,21 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
   fdds::TypeSupport type = idl::type_support<idl::InteractionSamplePubSubType>();
   i.participant.register_type(type);
   const bool request = own_side == core::SubType::Request;
-  i.topic = std::make_unique<dds::Topic>(
-      i.participant, request ? dds::topics::kInteractionRequest : dds::topics::kInteractionResponse,
+  i.topic = std::make_unique<dds::detail::Topic>(
+      i.participant,
+      request ? dds::detail::topics::kInteractionRequest
+              : dds::detail::topics::kInteractionResponse,
       type.get_type_name(), qos::state_topic(i.timing).topic_qos());
-  i.publisher = std::make_unique<dds::Publisher>(
-      i.participant, std::vector<std::string>{dds::topics::device_partition(device)});
-  i.writer = std::make_unique<dds::Writer<idl::InteractionSample>>(
+  i.publisher = std::make_unique<dds::detail::Publisher>(
+      i.participant, std::vector<std::string>{dds::detail::topics::device_partition(device)});
+  i.writer = std::make_unique<dds::detail::Writer<idl::InteractionSample>>(
       *i.publisher, *i.topic, qos::state_topic(i.timing).writer_qos(), i.listener);
   i.sample.device_uuid(device);
-  i.sample.data_item_id(dds::topics::interaction_item_id(interface_id, service, own_side));
+  i.sample.data_item_id(dds::detail::topics::interaction_item_id(interface_id, service, own_side));
   i.sample.interface_id(interface_id);
-  i.sample.service(dds::topics::to_idl(service));
-  i.sample.sub_type(dds::topics::to_idl(own_side));
-  i.sample.state(dds::topics::to_idl(core::InteractionState::NotReady));
+  i.sample.service(dds::detail::topics::to_idl(service));
+  i.sample.sub_type(dds::detail::topics::to_idl(own_side));
+  i.sample.state(dds::detail::topics::to_idl(core::InteractionState::NotReady));
 
   const auto wanted = request ? core::SubType::Response : core::SubType::Request;
   dds::DomainObserverOptions options;
@@ -112,7 +114,7 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
     if (v.service != service || v.sub_type != wanted) {
       return;
     }
-    const auto parsed = core::parse_interaction_state(v.value);
+    const auto parsed = v.state.interaction();
     if (!parsed) {
       return;
     }
@@ -141,7 +143,7 @@ RoguePeer::~RoguePeer() {
 void RoguePeer::set_state(core::InteractionState state) {
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
-    impl_->sample.state(dds::topics::to_idl(state));
+    impl_->sample.state(dds::detail::topics::to_idl(state));
   }
   impl_->publish(false);
 }

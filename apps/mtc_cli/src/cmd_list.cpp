@@ -110,7 +110,7 @@ int run_list(const ParsedArgs& args, Context& context) {
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_device = [&](const dds::ObservedDevice&) { context.shutdown.poke(); };
   callbacks.on_value = [&](const dds::ObservedValue& v) {
-    latest.set(v.device_uuid, v.data_item_id, v.value);
+    latest.set(v.device_uuid, v.data_item_id, core::to_string(v.state));
     context.shutdown.poke();
   };
   callbacks.on_items_lost = [&](const std::string& dev, const std::vector<std::string>& items) {

@@ -36,15 +36,16 @@ class WatchPrinter {
   }
 
   void value(const dds::ObservedValue& v) {
+    const std::string text = core::to_string(v.state);
     std::string previous;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       labels_[{v.device_uuid, v.data_item_id}] = v.interface_id + "  " + item_label(v);
       auto& slot = last_[{v.device_uuid, v.data_item_id}];
       previous = slot.empty() ? "-" : slot;
-      slot = v.value;
+      slot = text;
     }
-    const bool repeat = previous == v.value && v.heartbeat_count > 0;
+    const bool repeat = previous == text && v.heartbeat_count > 0;
     if (repeat && !heartbeats_) {
       return;
     }
@@ -55,10 +56,10 @@ class WatchPrinter {
           .field("device", v.device_uuid)
           .field("interface", v.interface_id)
           .field("item", v.data_item_id)
-          .field("kind", to_string(v.kind))
+          .field("kind", to_string(v.kind()))
           .field("label", item_label(v))
           .field("previous", previous)
-          .field("value", v.value)
+          .field("value", text)
           .field("sequence", v.sequence_number)
           .field("heartbeat", v.heartbeat_count)
           .field("source_time_ns", v.source_time_ns)
@@ -68,7 +69,7 @@ class WatchPrinter {
       return;
     }
     out_.line(format_utc(v.reception_time_ns) + "  " + v.device_uuid + "/" + v.interface_id + "  " +
-              item_label(v) + "  " + previous + " -> " + v.value + "  (source " +
+              item_label(v) + "  " + previous + " -> " + text + "  (source " +
               format_utc(v.source_time_ns) + ", latency " + format_ms(latency) + ", seq " +
               std::to_string(v.sequence_number) + (repeat ? ", heartbeat" : "") + ")");
   }

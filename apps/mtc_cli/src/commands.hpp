@@ -23,10 +23,9 @@ struct Context {
 // Options every subcommand shares.
 struct CommonOptions {
   int domain = 0;
-  // An endpoint preset of mtc::qos ("mtc.state"); empty = the library default.
-  std::string qos_profile;
-  // Set when --qos-profile named a participant profile
-  // ("mtc.participant.loopback_udp"): the transport it selects.
+  // Set by --qos-profile, a participant profile
+  // ("mtc.participant.loopback_udp"): the transport it selects. Endpoint QoS
+  // is not selectable (each topic's preset follows from the heartbeat).
   std::optional<qos::Transport> profile_transport;
   bool json = false;
 };

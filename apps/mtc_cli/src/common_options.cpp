@@ -7,11 +7,10 @@ namespace mtc::cli {
 
 void add_common_options(CommandSpec& spec) {
   spec.options.push_back({"domain", "N", "DDS domain id (0-232)", "0"});
-  spec.options.push_back({"qos-profile", "NAME",
-                          "QoS profile: a state-topic preset or a participant profile, which "
-                          "selects the transport (" +
-                              known_profiles_text() + ")",
-                          "library default, loopback transport"});
+  spec.options.push_back(
+      {"qos-profile", "NAME",
+       "participant QoS profile, which selects the transport (" + known_profiles_text() + ")",
+       "loopback transport"});
   spec.options.push_back({"json", "", "print one JSON object per line (for scripts)", ""});
 }
 
@@ -21,14 +20,16 @@ CommonOptions parse_common_options(const ParsedArgs& args) {
     common.domain = static_cast<int>(to_int("domain", *d, 0, 232));
   }
   if (auto p = args.value("qos-profile")) {
+    if (is_endpoint_preset(*p)) {
+      throw UsageError("--qos-profile '" + *p +
+                       "' is an endpoint preset, which the runtime picks per topic from "
+                       "--heartbeat-ms / --missed-heartbeats; give a participant profile (" +
+                       known_profiles_text() + ")");
+    }
     if (!is_known_profile(*p)) {
       throw UsageError("unknown QoS profile '" + *p + "' (known: " + known_profiles_text() + ")");
     }
-    if (auto transport = participant_profile_transport(*p)) {
-      common.profile_transport = transport;  // a participant profile picks the transport
-    } else {
-      common.qos_profile = *p;
-    }
+    common.profile_transport = participant_profile_transport(*p);
   }
   common.json = args.has("json");
   return common;

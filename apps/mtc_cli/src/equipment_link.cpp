@@ -87,7 +87,7 @@ void EquipmentLink::Impl::on_transition(const dds::TransitionEvent& t) {
 }
 
 void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
-  if (v.kind != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service)) {
+  if (v.kind() != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service)) {
     return;
   }
   const auto wanted =
@@ -98,7 +98,7 @@ void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
   LinkEvent e;
   e.kind = LinkEvent::Kind::CounterpartState;
   e.service = *v.service;
-  e.state = core::parse_interaction_state(v.value).value_or(core::InteractionState::Unavailable);
+  e.state = v.state.interaction().value_or(core::InteractionState::Unavailable);
   e.source_time_ns = v.source_time_ns;
   e.sequence_number = v.sequence_number;
   e.heartbeat_count = v.heartbeat_count;
@@ -186,8 +186,7 @@ EquipmentLink::EquipmentLink(const EquipmentConfig& config, core::Role role, Eve
   options.domain_id = config.common.domain;
   options.device_uuid = config.device_uuid;
   options.device_name = config.device_name;
-  options.timing.heartbeat = config.heartbeat;
-  options.timing.missed_heartbeats = config.missed_heartbeats;
+  options.timing = config.timing;
   options.transport = to_transport(config);
   options.faults.drop_data_percent = static_cast<std::uint8_t>(config.drop_percent);
   // The tool has no partial actions to reset: clear every acknowledged FAIL.

@@ -1,7 +1,5 @@
 #include "equipment_options.hpp"
 
-#include "mtc/qos/presets.hpp"
-
 namespace mtc::cli {
 
 namespace {
@@ -22,6 +20,16 @@ std::string required(const ParsedArgs& args, const std::string& name) {
   return *v;
 }
 
+// "loopback, loopback-udp, test<last>network", from qos's spellings.
+std::string transport_names(const std::string& last) {
+  std::string text;
+  for (std::size_t i = 0; i < qos::kAllTransports.size(); ++i) {
+    if (i > 0) text += i + 1 == qos::kAllTransports.size() ? last : ", ";
+    text += std::string(qos::to_string(qos::kAllTransports[i]));
+  }
+  return text;
+}
+
 // --transport, else the transport of a participant --qos-profile, else loopback.
 qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& common) {
   const auto text = args.value("transport");
@@ -30,10 +38,28 @@ qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& com
   }
   const auto parsed = qos::parse_transport(*text);
   if (!parsed) {
-    throw UsageError("--transport expects loopback, loopback-udp, test or builtin, got '" + *text +
-                     "'");
+    throw UsageError("--transport expects " + transport_names(" or ") + ", got '" + *text + "'");
   }
   return *parsed;
+}
+
+// --heartbeat-ms / --missed-heartbeats over the qos::Timing defaults.
+void add_timing_options(CommandSpec& spec, const std::string& heartbeat_help,
+                        const std::string& missed_help) {
+  const qos::Timing defaults;
+  spec.options.push_back(
+      {"heartbeat-ms", "MS", heartbeat_help, std::to_string(defaults.heartbeat.count())});
+  spec.options.push_back(
+      {"missed-heartbeats", "N", missed_help, std::to_string(defaults.missed_heartbeats)});
+}
+
+void parse_timing_options(const ParsedArgs& args, qos::Timing& timing) {
+  if (auto h = args.value("heartbeat-ms")) {
+    timing.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
+  }
+  if (auto m = args.value("missed-heartbeats")) {
+    timing.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
+  }
 }
 
 }  // namespace
@@ -90,24 +116,18 @@ std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text) 
 
 void add_observer_options(CommandSpec& spec) {
   spec.options.push_back({"transport", "KIND",
-                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
+                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, network (every "
+                          "interface: a real cell network only)",
                           "loopback"});
-  spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of the watched devices", "100"});
-  spec.options.push_back({"missed-heartbeats", "N",
-                          "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
-                          "or their items do not match)",
-                          "3"});
+  add_timing_options(spec, "heartbeat period of the watched devices",
+                     "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
+                     "or their items do not match)");
 }
 
 ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common) {
   ObserverSettings s;
   s.transport = transport_option(args, common);
-  if (auto h = args.value("heartbeat-ms")) {
-    s.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  }
-  if (auto m = args.value("missed-heartbeats")) {
-    s.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
-  }
+  parse_timing_options(args, s.timing);
   return s;
 }
 
@@ -127,11 +147,11 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
        many_services ? "device uuid of the requester" : "device uuid of the responder (required)",
        many_services ? "any" : ""});
   spec.options.push_back({"transport", "KIND",
-                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, builtin",
+                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, network (every "
+                          "interface: a real cell network only)",
                           "loopback"});
-  spec.options.push_back({"heartbeat-ms", "MS", "heartbeat period of every data item", "100"});
-  spec.options.push_back(
-      {"missed-heartbeats", "N", "heartbeats missed before the peer counts as lost", "3"});
+  add_timing_options(spec, "heartbeat period of every data item",
+                     "heartbeats missed before the peer counts as lost");
   spec.options.push_back({"fail-ack-timeout", "TIME",
                           "leave FAIL without the counterpart's acknowledgement after this long",
                           "2s"});
@@ -142,11 +162,6 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
                                         bool counterpart_required) {
   EquipmentConfig c;
   c.common = parse_common_options(args);
-  // The runtime publishes interaction items with the state preset only.
-  if (!c.common.qos_profile.empty() && c.common.qos_profile != std::string(qos::kStateProfile)) {
-    throw UsageError("--qos-profile: request/respond publish state topics with '" +
-                     std::string(qos::kStateProfile) + "' only");
-  }
   c.services = parse_services(required(args, "service"), many_services);
   c.device_uuid = required(args, "device");
   c.interface_id = required(args, "interface");
@@ -163,12 +178,7 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
     c.interface_type = *parsed;
   }
   c.transport = transport_option(args, c.common);
-  if (auto h = args.value("heartbeat-ms")) {
-    c.heartbeat = std::chrono::milliseconds(to_int("heartbeat-ms", *h, 1, 60000));
-  }
-  if (auto m = args.value("missed-heartbeats")) {
-    c.missed_heartbeats = static_cast<int>(to_int("missed-heartbeats", *m, 2, 100));
-  }
+  parse_timing_options(args, c.timing);
   if (auto f = args.value("fail-ack-timeout")) {
     c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);
   }

@@ -13,6 +13,7 @@
 #include "fail_injection.hpp"
 #include "mtc/core/vocabulary.hpp"
 #include "mtc/qos/participant.hpp"
+#include "mtc/qos/timing.hpp"
 
 namespace mtc::cli {
 
@@ -25,8 +26,7 @@ struct EquipmentConfig {
   std::vector<core::Service> services;
   std::string counterpart;  // device uuid of the other side; may be empty for respond
   qos::Transport transport = qos::Transport::Loopback;
-  std::chrono::milliseconds heartbeat{100};
-  int missed_heartbeats = 3;
+  qos::Timing timing;    // --heartbeat-ms, --missed-heartbeats
   int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
   std::chrono::milliseconds fail_ack_timeout{2000};
   // Responder --not-ready: start NOT_READY and clear every FAIL to NOT_READY.
@@ -52,8 +52,7 @@ void add_observer_options(CommandSpec& spec);
 // Fills transport and timing of a DomainObserverOptions-like struct.
 struct ObserverSettings {
   qos::Transport transport = qos::Transport::Loopback;
-  std::chrono::milliseconds heartbeat{100};
-  int missed_heartbeats = 3;
+  qos::Timing timing;  // --heartbeat-ms, --missed-heartbeats
 };
 ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common);
 

@@ -20,16 +20,14 @@ dds::DomainObserverOptions observer_options(const CommonOptions& common, const P
   const ObserverSettings s = parse_observer_options(args, common);
   dds::DomainObserverOptions o;
   o.domain_id = common.domain;
-  o.qos_profile = common.qos_profile;
   o.device_filter = args.values("device");
   o.transport = s.transport;
-  o.timing.heartbeat = s.heartbeat;
-  o.timing.missed_heartbeats = s.missed_heartbeats;
+  o.timing = s.timing;
   return o;
 }
 
 std::string item_label(const dds::ObservedValue& v) {
-  switch (v.kind) {
+  switch (v.kind()) {
     case dds::ItemKind::Interaction: {
       std::string label = v.service ? std::string(core::to_string(*v.service)) : v.data_item_id;
       if (v.sub_type) {

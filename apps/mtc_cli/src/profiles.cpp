@@ -9,10 +9,8 @@ namespace mtc::cli {
 
 namespace {
 std::vector<std::string> all_profile_names() {
-  auto names = qos::preset_names();
-  names.emplace_back(qos::kLoopbackParticipantProfile);
-  names.emplace_back(qos::kLoopbackUdpParticipantProfile);
-  return names;
+  return {std::string(qos::kLoopbackParticipantProfile),
+          std::string(qos::kLoopbackUdpParticipantProfile)};
 }
 }  // namespace
 
@@ -26,6 +24,11 @@ std::optional<qos::Transport> participant_profile_transport(const std::string& n
     return qos::participant_config(name).transport;
   }
   return std::nullopt;
+}
+
+bool is_endpoint_preset(const std::string& name) {
+  const auto presets = qos::preset_names();
+  return std::find(presets.begin(), presets.end(), name) != presets.end();
 }
 
 std::string known_profiles_text() {

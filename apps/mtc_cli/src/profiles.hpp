@@ -1,6 +1,7 @@
-// Names of the QoS profiles of mtc::qos that --qos-profile accepts (endpoint
-// presets and participant profiles, as in the XML profiles file), so a typo
-// is a usage error (exit 2) instead of a DDS failure deep in the runtime.
+// Names of the QoS profiles of mtc::qos that --qos-profile accepts: the
+// participant profiles of the XML profiles file, which select the transport.
+// Endpoint presets are not selectable: every topic's QoS follows from its
+// role and the heartbeat flags. A typo is a usage error (exit 2).
 #pragma once
 
 #include <optional>
@@ -15,5 +16,8 @@ bool is_known_profile(const std::string& name);
 std::optional<qos::Transport> participant_profile_transport(const std::string& name);
 // "a, b, c" for help texts and error messages.
 std::string known_profiles_text();
+// True for the name of an endpoint preset ("mtc.state"), to explain why it
+// is refused.
+bool is_endpoint_preset(const std::string& name);
 
 }  // namespace mtc::cli

@@ -21,7 +21,7 @@
 #include <pugixml.hpp>
 
 #include "mtc/bridge/schema_version.hpp"
-#include "mtc/dds/domain_observer.hpp"
+#include "mtc/core/observation.hpp"
 
 namespace mtc::bridge {
 
@@ -88,7 +88,7 @@ class DeviceModel {
   // One Device per announcement, in the order given. Interface types the
   // version's Devices schema lacks (1.3: bar feeder, material handler) are
   // left out, with their items.
-  static DeviceModel from_announcements(const std::vector<dds::ObservedDevice>& devices,
+  static DeviceModel from_announcements(const std::vector<core::ObservedDevice>& devices,
                                         SchemaVersion version, SlotRegistry& slots);
 
   // Version named by the file's namespace, when it is one the agent knows.

@@ -26,7 +26,7 @@
 
 #include "mtc/bridge/agent.hpp"
 #include "mtc/bridge/schema_version.hpp"
-#include "mtc/dds/domain_observer.hpp"
+#include "mtc/core/observation.hpp"
 
 namespace mtc::bridge {
 
@@ -87,11 +87,11 @@ class MtconnectAgent : public Agent {
   // A device's announcement. Without a Devices file, a new or changed
   // announcement rebuilds the model (deviceModelChangeTime moves). Either
   // way the device's AVAILABILITY item (if any) becomes AVAILABLE.
-  virtual void add_device(const dds::ObservedDevice& device) = 0;
+  virtual void add_device(const core::ObservedDevice& device) = 0;
   // One value. Appended only when it differs from the item's latest value
   // (heartbeat repeats are dropped). Values for items the model lacks are
   // counted in stats() and dropped.
-  virtual void add_value(const dds::ObservedValue& value) = 0;
+  virtual void add_value(const core::ObservedValue& value) = 0;
   // The writer of these items lost liveliness: each reads UNAVAILABLE.
   virtual void items_lost(const std::string& device_uuid,
                           const std::vector<std::string>& data_item_ids) = 0;

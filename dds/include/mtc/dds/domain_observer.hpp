@@ -14,51 +14,21 @@
 #include <string>
 #include <vector>
 
-#include "mtc/core/vocabulary.hpp"
+#include "mtc/core/observation.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/timing.hpp"
 
 namespace mtc::dds {
 
-// Which kind of Part 5 data item a value belongs to.
-enum class ItemKind : std::uint8_t { Interaction, InterfaceState, DoorState, ChuckState };
-
-// One sample of one data item, in MTConnect spelling ("READY", "ENABLED").
-struct ObservedValue {
-  std::string device_uuid;
-  std::string data_item_id;
-  std::string interface_id;
-  ItemKind kind = ItemKind::Interaction;
-  std::optional<core::Service> service;   // set for Interaction items
-  std::optional<core::SubType> sub_type;  // set for Interaction items
-  std::string value;                      // MTConnect spelling of the state
-  std::uint64_t sequence_number = 0;      // writer's change counter
-  std::uint64_t heartbeat_count = 0;      // > 0: periodic repeat, not a change
-  std::int64_t source_time_ns = 0;        // writer clock, ns since the epoch
-  std::int64_t reception_time_ns = 0;     // local clock at reception
-};
-
-struct ObservedDataItem {
-  std::string id;
-  std::string name;
-  std::string type;      // e.g. MATERIAL_LOAD, INTERFACE_STATE, DOOR_STATE
-  std::string sub_type;  // REQUEST, RESPONSE or empty
-  std::string category;  // EVENT
-};
-
-struct ObservedInterface {
-  std::string id;
-  std::string name;
-  core::InterfaceType type = core::InterfaceType::MaterialHandler;
-  std::vector<ObservedDataItem> data_items;
-};
-
-// A device's announcement (DeviceDescription topic).
-struct ObservedDevice {
-  std::string device_uuid;
-  std::string name;
-  std::vector<ObservedInterface> interfaces;
-};
+// The observed values are plain core types (mtc/core/observation.hpp), so
+// that their consumers (the bridge's agent, printers) need no DDS; the
+// aliases keep the names this header always offered.
+using core::ItemKind;
+using core::ObservedDataItem;
+using core::ObservedDevice;
+using core::ObservedInterface;
+using core::ObservedState;
+using core::ObservedValue;
 
 struct DomainObserverCallbacks {
   std::function<void(const ObservedDevice&)> on_device;
@@ -73,7 +43,11 @@ struct DomainObserverCallbacks {
 
 struct DomainObserverOptions {
   int domain_id = 0;
-  // Name of a QoS preset of mtc::qos for the state topics; empty = default.
+  // Endpoint QoS is not selectable: the observer reads state topics with
+  // qos::state_observer_topic(timing) and announcements with
+  // qos::device_description_topic(timing), the only presets that match the
+  // devices' writers. Kept so that callers which still set it compile until
+  // they drop it; any non-empty value is a ConfigError. To be removed.
   std::string qos_profile;
   // Only these devices (uuid); empty = all.
   std::vector<std::string> device_filter;

@@ -44,6 +44,9 @@ class EndpointQos {
   EndpointQos& reliable_heartbeat(std::chrono::nanoseconds period) noexcept;
   // Upper bound on instances per endpoint (each data item is an instance).
   EndpointQos& max_instances(std::int32_t count) noexcept;
+  // Reader-side bound (default: the same as max_instances): a reader may see
+  // the items of many writers.
+  EndpointQos& reader_max_instances(std::int32_t count) noexcept;
   // Reader-side history depth per instance (default: the same as keep_last).
   EndpointQos& reader_depth(std::int32_t depth) noexcept;
 
@@ -61,6 +64,9 @@ class EndpointQos {
   }
   std::int32_t max_instances() const noexcept { return max_instances_; }
   std::int32_t reader_depth() const noexcept { return reader_depth_ > 0 ? reader_depth_ : depth_; }
+  std::int32_t reader_max_instances() const noexcept {
+    return reader_max_instances_ > 0 ? reader_max_instances_ : max_instances_;
+  }
 
   eprosima::fastdds::dds::DataWriterQos writer_qos() const;
   eprosima::fastdds::dds::DataReaderQos reader_qos() const;
@@ -79,6 +85,7 @@ class EndpointQos {
   std::optional<std::chrono::nanoseconds> rtps_heartbeat_;
   std::int32_t max_instances_ = 1024;
   std::int32_t reader_depth_ = 0;
+  std::int32_t reader_max_instances_ = 0;
 };
 
 // Converts a std::chrono duration to a DDS Duration_t (infinite stays out:

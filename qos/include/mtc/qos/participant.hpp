@@ -1,4 +1,7 @@
-// Participant QoS: transports and discovery timing.
+// Participant configuration: transport, fault injection and timing, as
+// plain values (no Fast DDS type: the runtime's public headers include this
+// one). participant_qos.hpp turns a ParticipantConfig into Fast DDS QoS
+// inside qos/ and dds/.
 //
 // Every test, benchmark and demo of this project runs with a loopback-only
 // transport (Transport::Loopback or LoopbackUdp): the builtin transports are
@@ -9,14 +12,13 @@
 // 127.0.0.1 so that discovery also works where multicast is not routed.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
-
-#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
 #include "mtc/qos/timing.hpp"
 
@@ -26,9 +28,15 @@ enum class Transport : std::uint8_t {
   Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest)
   LoopbackUdp,   // UDPv4 on 127.0.0.1 only
   LoopbackTest,  // Fast DDS test_UDPv4 transport on 127.0.0.1: fault injection
-  Builtin,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
+  Network,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
                  // for deployment on a real cell network only, never in tests
+  // Former name of Network, kept only until mtc-bridge's sources (reworked
+  // elsewhere) use Network; not a transport of its own. To be removed.
+  Builtin = Network,
 };
+
+inline constexpr std::array<Transport, 4> kAllTransports = {
+    Transport::Loopback, Transport::LoopbackUdp, Transport::LoopbackTest, Transport::Network};
 
 // Faults the LoopbackTest transport injects into what this participant
 // sends (ignored by the other transports).
@@ -49,15 +57,13 @@ struct ParticipantConfig {
   Timing timing;
 };
 
-// Builds the participant QoS; throws std::invalid_argument for a bad timing.
-eprosima::fastdds::dds::DomainParticipantQos participant_qos(const ParticipantConfig& config);
-
 // Named participant profiles, as in the XML file: "mtc.participant.loopback"
 // (UDPv4 127.0.0.1 + SHM) and "mtc.participant.loopback_udp"; throws
 // std::invalid_argument naming the known profiles otherwise.
 ParticipantConfig participant_config(std::string_view profile_name, const Timing& timing = {});
 
-// Command-line spellings: "loopback", "loopback-udp", "test", "builtin".
+// The one spelling of each transport, in command lines and configuration
+// files alike: "loopback", "loopback-udp", "test", "network".
 std::optional<Transport> parse_transport(std::string_view text) noexcept;
 std::string_view to_string(Transport t) noexcept;
 

@@ -1,4 +1,6 @@
-// Topic and partition design (see README "DDS runtime").
+// Internal: topic and partition design (see README "DDS runtime"), item ids
+// and the IDL <-> core enum conversions. Used by the runtime's sources,
+// tests and raw peers (never by a public header).
 //
 // Topics are split by role so that DDS-Security permissions, which grant by
 // topic name and partition (not by instance key), can express "only the
@@ -25,7 +27,7 @@
 #include "mtc/core/vocabulary.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 
-namespace mtc::dds::topics {
+namespace mtc::dds::detail::topics {
 
 inline constexpr const char* kInteractionRequest = "mtc/InteractionRequest";
 inline constexpr const char* kInteractionResponse = "mtc/InteractionResponse";
@@ -55,9 +57,10 @@ std::string interface_state_item_id(std::string_view interface_id);
 std::string door_state_item_id(std::string_view interface_id);
 std::string chuck_state_item_id(std::string_view interface_id);
 
-// Conversions between the IDL enums and the core vocabulary (the enumerators
-// are declared in the same order). from_idl returns nullopt for a value
-// outside the enum, which a peer of another vendor could send.
+// Conversions between the IDL enums and the core vocabulary, by position:
+// topics.cpp pairs every enumerator and fails the build if the two sides
+// fall out of order. from_idl returns nullopt for a value outside the enum,
+// which a peer of another vendor could send.
 idl::interaction_state::Value to_idl(core::InteractionState s) noexcept;
 idl::interface_state::Value to_idl(core::InterfaceState s) noexcept;
 idl::door_state::Value to_idl(core::DoorState s) noexcept;
@@ -77,4 +80,4 @@ std::optional<core::InterfaceType> from_idl(idl::interface_types::InterfaceType 
 // CLOCK_REALTIME in ns since the epoch (the source_time_ns of samples).
 std::int64_t realtime_ns() noexcept;
 
-}  // namespace mtc::dds::topics
+}  // namespace mtc::dds::detail::topics

@@ -1,4 +1,5 @@
-// RAII wrappers around Fast DDS entities. Each wrapper deletes its entity in
+// Internal: RAII wrappers around Fast DDS entities, used by the runtime's
+// sources, tests and raw peers (never by a public header). Each wrapper deletes its entity in
 // its destructor (destroy children before parents: declare them after their
 // parent); Participant's destructor also deletes whatever is left with
 // delete_contained_entities(). Destructors never throw: a failed deletion is
@@ -25,7 +26,7 @@
 
 #include "mtc/dds/error.hpp"
 
-namespace mtc::dds {
+namespace mtc::dds::detail {
 
 namespace fdds = eprosima::fastdds::dds;
 
@@ -130,4 +131,4 @@ class Reader {
   fdds::DataReader* reader_ = nullptr;
 };
 
-}  // namespace mtc::dds
+}  // namespace mtc::dds::detail
