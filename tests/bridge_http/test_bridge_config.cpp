@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mtc/bridge/bridge_config.hpp"
+#include "bridge_config.hpp"
 
 namespace mtc::bridge {
 namespace {

@@ -1,4 +1,4 @@
-#include "mtc/bridge/bridge_config.hpp"
+#include "bridge_config.hpp"
 
 #include <arpa/inet.h>
 

@@ -6,7 +6,7 @@
 #include <ostream>
 #include <vector>
 
-#include "mtc/bridge/bridge_config.hpp"
+#include "bridge_config.hpp"
 #include "mtc/bridge/http_server.hpp"
 #include "mtc/bridge/mtconnect_agent.hpp"
 #include "mtc/dds/domain_observer.hpp"
