@@ -77,7 +77,7 @@ class AgentImpl final : public MtconnectAgent {
 
   // --- requests (caller holds data_ shared) ---
   Routed route_target(std::string_view target);
-  Query parse_query(const Target& t, std::optional<std::size_t> device, bool sample) const;
+  Query parse_query(const RequestTarget& t, std::optional<std::size_t> device, bool sample) const;
   std::vector<std::int32_t> item_filter(const Query& q) const;
   HeaderInfo header() const;
   Response current(const Query& q, const std::string& cache_key);

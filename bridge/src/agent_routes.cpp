@@ -149,7 +149,7 @@ Routed AgentImpl::route_target(std::string_view target) {
   return Routed{current(q, key), std::nullopt};
 }
 
-Query AgentImpl::parse_query(const Target& t, std::optional<std::size_t> device,
+Query AgentImpl::parse_query(const RequestTarget& t, std::optional<std::size_t> device,
                              bool sample) const {
   Query q;
   q.device = device;

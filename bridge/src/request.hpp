@@ -1,25 +1,12 @@
-// Request targets: "/mill/sample?from=10&count=5" split into decoded path
-// segments and query parameters, plus strict integer parsing. Internal to
-// mtc_bridge.
+// Strict integer parsing for query parameters. Internal to mtc_bridge.
 #pragma once
 
 #include <cstdint>
-#include <optional>
-#include <string>
 #include <string_view>
-#include <utility>
-#include <vector>
+
+#include "mtc/bridge/request.hpp"
 
 namespace mtc::bridge::detail {
-
-struct Target {
-  std::vector<std::string> segments;                         // decoded, non-empty
-  std::vector<std::pair<std::string, std::string>> query;    // decoded, in order
-};
-
-// nullopt with `error` set for a target that is not an origin-form path
-// ("/..."), has a bad %-escape, a NUL byte, or is absurdly long.
-std::optional<Target> parse_target(std::string_view target, std::string& error);
 
 enum class IntegerError { None, NotInteger, Overflow };
 

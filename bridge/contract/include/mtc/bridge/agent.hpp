@@ -1,6 +1,7 @@
 // The MTConnect agent behind the HTTP server: turns a request target
 // ("/probe", "/mill/sample?from=10&count=5") into a response document. It
-// knows nothing of sockets; bridge/src/http_server.* knows nothing of XML.
+// knows nothing of sockets; the HTTP server (bridge/server) knows nothing of
+// XML.
 //
 // Thread safety: every member may be called from any thread at once; the
 // observation buffer underneath is internally synchronised.
@@ -17,8 +18,8 @@
 namespace mtc::bridge {
 
 struct Response {
-  int status = 200;                           // HTTP status
-  std::string content_type = "text/xml";      // always XML documents for now
+  int status = 200;                       // HTTP status
+  std::string content_type = "text/xml";  // always XML documents for now
   std::string body;
 };
 
