@@ -2,10 +2,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
-#include <chrono>
 #include <sstream>
-
-#include "mtc/bridge/printer.hpp"
 
 namespace mtc::bridge {
 
@@ -20,8 +17,7 @@ AgentOptions agent_options(const BridgeConfig& config) {
   return options;
 }
 
-ServerOptions server_options(const BridgeConfig& config,
-                             const std::shared_ptr<MtconnectAgent>& agent) {
+ServerOptions server_options(const BridgeConfig& config) {
   ServerOptions options;
   options.bind_address = config.server_ip;
   options.port = config.port;
@@ -32,37 +28,12 @@ ServerOptions server_options(const BridgeConfig& config,
   options.write_timeout = config.write_timeout;
   options.default_heartbeat = config.stream_heartbeat;
   options.server_name = "mtc-bridge";
-  // Errors found before routing (bad request line, oversized header) get
-  // the same MTConnectError document the agent prints for its own errors.
-  std::weak_ptr<MtconnectAgent> weak = agent;
-  const std::size_t buffer_size = std::size_t{1} << config.buffer_size_exponent;
-  const std::string sender = config.sender;
-  options.error_document = [weak, buffer_size, sender](int status, std::string_view code,
-                                                       std::string_view message) {
-    Response response;
-    response.status = status;
-    const auto locked = weak.lock();
-    if (!locked) {
-      return response;
-    }
-    HeaderInfo header;
-    header.instance_id = locked->instance_id();
-    header.sender = sender;
-    header.buffer_size = buffer_size;
-    header.next_sequence = locked->next_sequence();
-    header.creation_time_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                  std::chrono::system_clock::now().time_since_epoch())
-                                  .count();
-    response.body =
-        Printer(locked->schema_version()).error(header, {ErrorEntry{code, std::string(message)}});
-    return response;
-  };
   return options;
 }
 
 BridgeApp::BridgeApp(const BridgeConfig& config)
     : config_(config), agent_(make_agent(agent_options(config))) {
-  server_ = std::make_unique<HttpServer>(agent_, server_options(config_, agent_));
+  server_ = std::make_unique<HttpServer>(agent_, server_options(config_));
   observe_domains();
 }
 

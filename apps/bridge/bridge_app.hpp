@@ -41,9 +41,7 @@ class BridgeApp {
 // AgentOptions from the configuration (buffer 2^BufferSize, Devices, ...).
 AgentOptions agent_options(const BridgeConfig& config);
 
-// ServerOptions from the configuration, with MTConnectError documents for
-// the errors the server finds itself, printed like the agent's own.
-ServerOptions server_options(const BridgeConfig& config,
-                             const std::shared_ptr<MtconnectAgent>& agent);
+// ServerOptions from the configuration.
+ServerOptions server_options(const BridgeConfig& config);
 
 }  // namespace mtc::bridge

@@ -47,6 +47,8 @@ class AgentImpl final : public MtconnectAgent {
 
   Routed route(std::string_view method, std::string_view target) noexcept override;
   Response next_part(StreamPlan& plan) noexcept override;
+  Response error_document(int status, std::string_view code,
+                          std::string_view message) noexcept override;
   std::uint64_t next_sequence() const noexcept override;
   bool wait_for(std::uint64_t from, std::chrono::milliseconds timeout) const override;
   std::uint64_t subscribe(std::function<void()> on_new_data) override;

@@ -84,6 +84,17 @@ Response AgentImpl::error(const RequestError& e) const {
   return error_locked(e);
 }
 
+Response AgentImpl::error_document(int status, std::string_view code,
+                                   std::string_view message) noexcept {
+  try {
+    return error(RequestError{code, status, std::string(message)});
+  } catch (...) {
+    Response r;  // out of memory: the status alone
+    r.status = status;
+    return r;
+  }
+}
+
 Routed AgentImpl::route(std::string_view method, std::string_view target) noexcept {
   try {
     if (method != "GET" && method != "HEAD") {

@@ -55,7 +55,12 @@ class FakeAgent : public Agent {
     return subscribers_.size();
   }
 
-  static Response error_document(int status, std::string_view code, std::string_view message) {
+  Response error_document(int status, std::string_view code,
+                          std::string_view message) noexcept override {
+    return make_error(status, code, message);
+  }
+
+  static Response make_error(int status, std::string_view code, std::string_view message) {
     pugi::xml_document doc;
     auto root = doc.append_child("MTConnectError");
     root.append_child("Header").append_attribute("sender") = "fake";
@@ -68,7 +73,7 @@ class FakeAgent : public Agent {
   Routed route(std::string_view method, std::string_view target) noexcept override {
     Routed routed;
     if (method != "GET") {
-      routed.response = error_document(405, "UNSUPPORTED", "only GET is supported");
+      routed.response = make_error(405, "UNSUPPORTED", "only GET is supported");
       return routed;
     }
     const auto query_at = target.find('?');
@@ -95,13 +100,13 @@ class FakeAgent : public Agent {
         routed.response = next_part(once);
       }
     } else {
-      routed.response = error_document(404, "INVALID_URI", "no such path");
+      routed.response = make_error(404, "INVALID_URI", "no such path");
     }
     return routed;
   }
 
   Response next_part(StreamPlan& plan) noexcept override {
-    if (parts_fail_) return error_document(400, "OUT_OF_RANGE", "fell behind the buffer");
+    if (parts_fail_) return make_error(400, "OUT_OF_RANGE", "fell behind the buffer");
     std::lock_guard<std::mutex> lock(mutex_);
     pugi::xml_document doc;
     auto root = doc.append_child("MTConnectStreams");

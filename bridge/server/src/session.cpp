@@ -228,15 +228,8 @@ void Session::answer(Response response, bool keep_alive, bool head_only) {
 }
 
 void Session::answer_error(int status, std::string_view code, std::string_view message) {
-  Response response;
-  if (shared_->options.error_document) {
-    response = shared_->options.error_document(status, code, message);
-    response.status = status;
-  } else {
-    response.status = status;
-    response.content_type = "text/plain";
-    response.body = std::string(code) + ": " + std::string(message) + "\n";
-  }
+  Response response = shared_->agent->error_document(status, code, message);
+  response.status = status;
   answer(std::move(response), false, false);
 }
 

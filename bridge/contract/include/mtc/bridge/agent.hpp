@@ -56,6 +56,13 @@ class Agent {
   // buffer): write it, then end the stream.
   virtual Response next_part(StreamPlan& plan) noexcept = 0;
 
+  // An MTConnectError document for a problem the front end found before
+  // any route could (unparsable request, oversized header, request body,
+  // too many connections), printed like the agent's own errors. `code` is
+  // an MTConnect errorCode such as "INVALID_REQUEST". Never throws.
+  virtual Response error_document(int status, std::string_view code,
+                                  std::string_view message) noexcept = 0;
+
   // Sequence number the next observation will take; lets a stream wait.
   virtual std::uint64_t next_sequence() const noexcept = 0;
 
