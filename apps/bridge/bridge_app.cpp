@@ -14,6 +14,7 @@ AgentOptions agent_options(const BridgeConfig& config) {
   options.buffer_size = std::size_t{1} << config.buffer_size_exponent;
   options.devices_file = config.devices_file;
   options.sender = config.sender;
+  options.stream_heartbeat = config.stream_heartbeat;
   return options;
 }
 
@@ -26,7 +27,6 @@ ServerOptions server_options(const BridgeConfig& config) {
   options.header_timeout = config.header_timeout;
   options.idle_timeout = config.idle_timeout;
   options.write_timeout = config.write_timeout;
-  options.default_heartbeat = config.stream_heartbeat;
   options.server_name = "mtc-bridge";
   return options;
 }

@@ -305,6 +305,10 @@ void AgentImpl::unsubscribe(std::uint64_t id) {
 
 std::unique_ptr<MtconnectAgent> make_agent(const AgentOptions& options) {
   if (options.buffer_size < 2) throw std::invalid_argument("buffer_size must be at least 2");
+  if (options.default_count == 0) throw std::invalid_argument("default_count must be at least 1");
+  if (options.stream_heartbeat.count() <= 0) {
+    throw std::invalid_argument("stream_heartbeat must be positive");
+  }
   return std::make_unique<detail::AgentImpl>(options);
 }
 

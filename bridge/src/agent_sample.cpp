@@ -14,8 +14,6 @@ namespace mtc::bridge::detail {
 
 namespace {
 
-constexpr std::int64_t kDefaultCount = 100;
-
 RequestError out_of_range(std::string text) { return {"OUT_OF_RANGE", 400, std::move(text)}; }
 
 }  // namespace
@@ -24,8 +22,9 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
   const auto first = static_cast<std::int64_t>(buffer_.first_sequence());
   const auto next = static_cast<std::int64_t>(buffer_.next_sequence());
   const auto max_count = static_cast<std::int64_t>(max_count_);
-  // Default count: 100, as agents use, but never more than the buffer holds.
-  const std::int64_t count = q.count.value_or(std::min(kDefaultCount, max_count));
+  // The configured default, but never more than the buffer holds.
+  const std::int64_t count = q.count.value_or(
+      std::min(static_cast<std::int64_t>(options_.default_count), max_count));
   if (q.from && (*q.from < first || *q.from > next)) {
     throw out_of_range("'from' must be between " + std::to_string(first) + " and " +
                        std::to_string(next));
@@ -81,7 +80,8 @@ Routed AgentImpl::stream(const Query& q, std::string_view target, bool is_sample
   StreamPlan plan;
   plan.is_sample = is_sample;
   plan.interval = std::chrono::milliseconds(*q.interval);
-  if (q.heartbeat) plan.heartbeat = std::chrono::milliseconds(*q.heartbeat);
+  plan.heartbeat =
+      q.heartbeat ? std::chrono::milliseconds(*q.heartbeat) : options_.stream_heartbeat;
   plan.target = std::string(target);
   if (is_sample) {
     std::uint64_t next = 0;

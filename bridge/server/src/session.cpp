@@ -35,27 +35,6 @@ bool is_quiet_close(const beast::error_code& ec) {
          ec == asio::error::broken_pipe || ec == asio::error::bad_descriptor;
 }
 
-// Whether the query of `target` names parameter `name`.
-bool has_query_parameter(std::string_view target, std::string_view name) {
-  const auto question = target.find('?');
-  if (question == std::string_view::npos) {
-    return false;
-  }
-  std::string_view query = target.substr(question + 1);
-  while (!query.empty()) {
-    const auto amp = query.find('&');
-    const auto pair = query.substr(0, amp);
-    if (pair.substr(0, pair.find('=')) == name) {
-      return true;
-    }
-    if (amp == std::string_view::npos) {
-      break;
-    }
-    query.remove_prefix(amp + 1);
-  }
-  return false;
-}
-
 // True when the request line in `data` ends in a well-formed "HTTP/d.d",
 // i.e. the client speaks a version we do not (Beast accepts only 1.0/1.1).
 bool names_other_http_version(std::string_view data) {
@@ -190,10 +169,6 @@ void Session::handle_request() {
 
   Routed routed = shared_->agent->route(method, target);
   if (routed.stream && !head_only && !shared_->stopping) {
-    const auto default_heartbeat = shared_->options.default_heartbeat;
-    if (default_heartbeat.count() > 0 && !has_query_parameter(target, "heartbeat")) {
-      routed.stream->heartbeat = default_heartbeat;
-    }
     start_stream(std::move(*routed.stream));
   } else if (routed.stream) {
     Response response;  // HEAD of a stream: headers only, then close

@@ -26,11 +26,12 @@ struct Response {
 // A streaming request (/sample or /current with interval=...): the server
 // asks the agent for one part at a time and writes each as a multipart part.
 struct StreamPlan {
-  bool is_sample = true;                       // false: /current?interval
-  std::chrono::milliseconds interval{0};       // minimum time between parts
-  std::chrono::milliseconds heartbeat{10000};  // idle time before an empty part
-  std::uint64_t next_sequence = 0;             // where the next part starts
-  std::string target;                          // the original request target
+  bool is_sample = true;                   // false: /current?interval
+  std::chrono::milliseconds interval{0};   // minimum time between parts
+  std::chrono::milliseconds heartbeat{0};  // idle time before an empty part (the
+                                           // request's, else AgentOptions::stream_heartbeat)
+  std::uint64_t next_sequence = 0;         // where the next part starts
+  std::string target;                      // the original request target
 };
 
 class Agent;

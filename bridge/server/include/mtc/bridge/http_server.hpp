@@ -33,8 +33,6 @@ struct ServerOptions {
   // A write (response or stream part) the client does not take in this
   // long closes the connection: a stalled reader cannot pin memory.
   std::chrono::milliseconds write_timeout{30000};
-  // Heartbeat of a stream whose request names none; 0 keeps the agent's.
-  std::chrono::milliseconds default_heartbeat{0};
   std::string server_name = "mtc-bridge";
 };
 
