@@ -62,6 +62,7 @@ AgentImpl::AgentImpl(const AgentOptions& options)
                                                       .count());
   max_count_ = options.max_count == 0 ? options.buffer_size
                                       : std::min(options.max_count, options.buffer_size);
+  routes_ = make_routes();
   model_change_ns_ = now_ns();
   if (!options.devices_file.empty()) {
     model_ = DeviceModel::from_file(options.devices_file, slots_);

@@ -1,6 +1,7 @@
-// The agent's side of the Agent contract beyond single documents: errors the
-// HTTP front finds itself, printed by the agent, and the defaults the
-// agent's options give requests that name none.
+// The agent's route table and its side of the Agent contract beyond single
+// documents: how paths pick a route, how queries are read, errors the HTTP
+// front finds itself, and the defaults the options give requests that name
+// none.
 #include <gtest/gtest.h>
 
 #include "bridge_test_util.hpp"
@@ -41,6 +42,53 @@ TEST(AgentContract, ErrorDocumentsForTheFrontEndCarryTheAgentsHeader) {
   EXPECT_EQ(d.text("/MTConnectError/Header/@instanceId"), "42");
   EXPECT_EQ(d.text("/MTConnectError/Header/@bufferSize"), "64");
   EXPECT_EQ(d.text("/MTConnectError/Header/@sender"), "mtc-bridge");
+}
+
+std::string code_of(MtconnectAgent& agent, const std::string& target) {
+  const Response r = test::get(agent, target);
+  return r.status == 200 ? "200"
+                         : std::to_string(r.status) + " " + Doc(r.body).text("//Error/@errorCode");
+}
+
+TEST(AgentRoutes, LiteralSegmentsWinOverADeviceOfTheSameName) {
+  auto agent = test::announced_cell();
+  core::ObservedDevice probe = test::robot();
+  probe.device_uuid = "probe-0001";
+  probe.name = "probe";
+  agent->add_device(probe);
+  // "/probe" is the agent's probe (every device), not the device "probe".
+  EXPECT_EQ(Doc(test::get(*agent, "/probe").body).count("//Devices/Device"), 4u);
+  // Under a device placeholder the name still works.
+  const Doc current(test::get(*agent, "/probe/current").body);
+  EXPECT_EQ(current.count("//DeviceStream"), 1u);
+  EXPECT_EQ(current.text("//DeviceStream/@name"), "probe");
+}
+
+TEST(AgentRoutes, TheTemplateThatExplainsMostOfThePathGivesTheError) {
+  auto agent = test::announced_cell();
+  EXPECT_EQ(code_of(*agent, "/nosuch"), "404 NO_DEVICE");
+  EXPECT_EQ(code_of(*agent, "/nosuch/bogus"), "404 NO_DEVICE");
+  EXPECT_EQ(code_of(*agent, "/mill/bogus"), "404 INVALID_URI");
+  EXPECT_EQ(code_of(*agent, "/mill/current/x"), "404 INVALID_URI");
+  EXPECT_EQ(code_of(*agent, "/assets/A1"), "404 ASSET_NOT_FOUND");
+  EXPECT_EQ(code_of(*agent, "/mill/assets"), "200");
+}
+
+TEST(AgentRoutes, QueriesAreReadAsTheRouteDeclares) {
+  auto agent = test::announced_cell();
+  // Unknown parameters are ignored, but not given twice.
+  EXPECT_EQ(code_of(*agent, "/current?foo=1"), "200");
+  EXPECT_EQ(code_of(*agent, "/current?foo=1&foo=2"), "400 INVALID_REQUEST");
+  // Another request's parameter is an error, even when well-formed.
+  EXPECT_EQ(code_of(*agent, "/current?count=5"), "400 INVALID_REQUEST");
+  EXPECT_EQ(code_of(*agent, "/probe?from=1"), "400 INVALID_REQUEST");
+  // Types are checked before routes: an overflow is OUT_OF_RANGE anywhere.
+  EXPECT_EQ(code_of(*agent, "/current?count=99999999999999999999"), "400 OUT_OF_RANGE");
+  // probe and assets read their query as current does.
+  EXPECT_EQ(code_of(*agent, "/probe?at=1&pretty=true"), "200");
+  EXPECT_EQ(code_of(*agent, "/assets?interval=-1"), "400 OUT_OF_RANGE");
+  // Asset ids are answered before any query is read.
+  EXPECT_EQ(code_of(*agent, "/asset/A1?from=x"), "404 ASSET_NOT_FOUND");
 }
 
 TEST(AgentDefaults, ConfiguredStreamHeartbeatAppliesOnlyWhenTheRequestNamesNone) {
