@@ -30,7 +30,8 @@ class AgentImpl final : public MtconnectAgent {
  public:
   explicit AgentImpl(const AgentOptions& options);
 
-  Routed route(std::string_view method, std::string_view target) noexcept override;
+  using Agent::route;
+  Routed route(const Request& request) noexcept override;
   Response next_part(StreamPlan& plan) noexcept override;
   Response error_document(int status, std::string_view code,
                           std::string_view message) noexcept override;

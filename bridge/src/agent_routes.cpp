@@ -115,22 +115,17 @@ Response AgentImpl::error_document(int status, std::string_view code,
   }
 }
 
-Routed AgentImpl::route(std::string_view method, std::string_view target) noexcept {
+Routed AgentImpl::route(const Request& request) noexcept {
   try {
-    if (method != "GET" && method != "HEAD") {
-      return Routed{
-          error({"UNSUPPORTED", 405,
-                 "only GET is supported, not '" + std::string(method.substr(0, 32)) + "'"}),
-          std::nullopt};
+    if (request.method != "GET" && request.method != "HEAD") {
+      return Routed{error({"UNSUPPORTED", 405,
+                           "only GET is supported, not '" + request.method.substr(0, 32) + "'"}),
+                    std::nullopt};
     }
-    std::string why;
-    const auto parsed = parse_target(target, why);
-    if (!parsed) throw RequestError{"INVALID_URI", 400, why};
+    if (!request.target) throw RequestError{"INVALID_URI", 400, request.target_error};
     std::shared_lock lock(data_);
-    const RouteTable::Match match = routes_.match(*parsed, model_);
-    Routed routed = (this->*match.route->handler)(match.query);
-    if (routed.stream) routed.stream->target = std::string(target);
-    return routed;
+    const RouteTable::Match match = routes_.match(*request.target, model_);
+    return (this->*match.route->handler)(match.query);
   } catch (const RequestError& e) {
     return Routed{error(e), std::nullopt};
   } catch (const std::exception& e) {

@@ -79,6 +79,7 @@ Routed AgentImpl::stream(const Query& q, bool is_sample) const {
   plan.is_sample = is_sample;
   plan.interval = std::chrono::milliseconds(*q.interval);
   plan.heartbeat = std::chrono::milliseconds(q.heartbeat.value());  // or the route's default
+  plan.parameters = q;
   if (is_sample) {
     std::uint64_t next = 0;
     Response first_part = sample(q, next);  // range checks of from/count
@@ -93,11 +94,13 @@ Routed AgentImpl::stream(const Query& q, bool is_sample) const {
 
 Response AgentImpl::next_part(StreamPlan& plan) noexcept {
   try {
-    std::string why;
-    const auto parsed = parse_target(plan.target, why);
-    if (!parsed) throw RequestError{"INVALID_URI", 400, why};
     std::shared_lock lock(data_);
-    Query q = routes_.match(*parsed, model_).query;
+    Query q;
+    static_cast<RequestParameters&>(q) = plan.parameters;
+    // By name: a rebuilt model may have moved the device.
+    if (q.device && !(q.device_index = model_.find_device(*q.device))) {
+      throw RequestError{"NO_DEVICE", 404, "no device named '" + *q.device + "'"};
+    }
     if (!plan.is_sample) {
       plan.next_sequence = buffer_.next_sequence();
       q.interval.reset();

@@ -30,15 +30,6 @@ struct RequestError {
   std::string text;
 };
 
-// The typed parameters of a request, from its path and its query.
-struct RequestParameters {
-  std::optional<std::string> device;  // {device}: name or uuid
-  std::optional<std::string> asset;   // {asset}: an asset id
-  std::optional<std::string> path;    // XPath selecting data items
-  std::optional<std::int64_t> at, from, to, count, interval, heartbeat;
-  bool pretty = false;
-};
-
 // What routing made of a request: its parameters and the model's index of
 // the device they name (resolved under the agent's lock).
 struct Query : RequestParameters {

@@ -148,14 +148,13 @@ void Session::on_header(beast::error_code ec) {
 }
 
 void Session::handle_request() {
-  const auto& request = parser_->get();
-  version_ = request.version() == 10 ? 10 : 11;  // the parser admits no other
-  const bool head_only = request.method() == http::verb::head;
+  const auto& message = parser_->get();
+  version_ = message.version() == 10 ? 10 : 11;  // the parser admits no other
+  const bool head_only = message.method() == http::verb::head;
   const std::string_view method =
       head_only ? std::string_view("GET")
-                : std::string_view(request.method_string().data(), request.method_string().size());
-  const std::string_view target(request.target().data(), request.target().size());
-  bool keep_alive = request.keep_alive();
+                : std::string_view(message.method_string().data(), message.method_string().size());
+  bool keep_alive = message.keep_alive();
 
   // The agent is read-only: a request body is never read. GET with one is
   // refused; other methods still get the agent's UNSUPPORTED answer.
@@ -167,7 +166,10 @@ void Session::handle_request() {
     }
   }
 
-  Routed routed = shared_->agent->route(method, target);
+  // The target is split here, once; the agent types its parameters once,
+  // and a stream keeps them for every part.
+  const Request request = parse_request(method, {message.target().data(), message.target().size()});
+  Routed routed = shared_->agent->route(request);
   if (routed.stream && !head_only && !shared_->stopping) {
     start_stream(std::move(*routed.stream));
   } else if (routed.stream) {

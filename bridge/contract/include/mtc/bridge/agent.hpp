@@ -1,5 +1,6 @@
-// The MTConnect agent behind the HTTP server: turns a request target
-// ("/probe", "/mill/sample?from=10&count=5") into a response document. It
+// The MTConnect agent behind the HTTP server: turns a request
+// ("GET /probe", "GET /mill/sample?from=10&count=5") into a response
+// document. It
 // knows nothing of sockets; the HTTP server (bridge/server) knows nothing of
 // XML.
 //
@@ -14,6 +15,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+
+#include "mtc/bridge/request.hpp"
 
 namespace mtc::bridge {
 
@@ -31,7 +34,7 @@ struct StreamPlan {
   std::chrono::milliseconds heartbeat{0};  // idle time before an empty part (the
                                            // request's, else AgentOptions::stream_heartbeat)
   std::uint64_t next_sequence = 0;         // where the next part starts
-  std::string target;                      // the original request target
+  RequestParameters parameters;            // what every part renders, read once
 };
 
 class Agent;
@@ -46,9 +49,13 @@ class Agent {
  public:
   virtual ~Agent() = default;
 
-  // Routes one request. Never throws: bad requests become an MTConnectError
-  // document with the matching HTTP status.
-  virtual Routed route(std::string_view method, std::string_view target) noexcept = 0;
+  // Routes one request. Never throws: bad requests (an unparsable target
+  // included) become an MTConnectError document with the matching HTTP
+  // status.
+  virtual Routed route(const Request& request) noexcept = 0;
+
+  // Splits `target` (parse_request) and routes it.
+  Routed route(std::string_view method, std::string_view target) noexcept;
 
   // Next part of a stream: the document for observations from
   // plan.next_sequence on (advancing it), or, when there are none, an empty
