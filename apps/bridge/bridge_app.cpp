@@ -6,34 +6,9 @@
 
 namespace mtc::bridge {
 
-AgentOptions agent_options(const BridgeConfig& config) {
-  AgentOptions options;
-  if (!config.schema_version.empty()) {
-    options.schema_version = parse_schema_version(config.schema_version);
-  }
-  options.buffer_size = std::size_t{1} << config.buffer_size_exponent;
-  options.devices_file = config.devices_file;
-  options.sender = config.sender;
-  options.stream_heartbeat = config.stream_heartbeat;
-  return options;
-}
-
-ServerOptions server_options(const BridgeConfig& config) {
-  ServerOptions options;
-  options.bind_address = config.server_ip;
-  options.port = config.port;
-  options.io_threads = config.io_threads;
-  options.max_connections = config.max_connections;
-  options.header_timeout = config.header_timeout;
-  options.idle_timeout = config.idle_timeout;
-  options.write_timeout = config.write_timeout;
-  options.server_name = "mtc-bridge";
-  return options;
-}
-
 BridgeApp::BridgeApp(const BridgeConfig& config)
-    : config_(config), agent_(make_agent(agent_options(config))) {
-  server_ = std::make_unique<HttpServer>(agent_, server_options(config_));
+    : config_(config), agent_(make_agent(config.agent)) {
+  server_ = std::make_unique<HttpServer>(agent_, config_.server);
   observe_domains();
 }
 
@@ -46,15 +21,8 @@ BridgeApp::~BridgeApp() {
 
 void BridgeApp::observe_domains() {
   for (const int domain : config_.domain_ids) {
-    dds::DomainObserverOptions options;
+    dds::DomainObserverOptions options = config_.observer;
     options.domain_id = domain;
-    options.qos_profile = config_.qos_profile;
-    options.device_filter = config_.device_filter;
-    options.transport = config_.transport == "network"        ? qos::Transport::Builtin
-                        : config_.transport == "loopback-udp" ? qos::Transport::LoopbackUdp
-                                                              : qos::Transport::Loopback;
-    options.timing.heartbeat = config_.heartbeat;
-    options.timing.missed_heartbeats = config_.missed_heartbeats;
     // Callbacks run on the observer's dispatch thread; the agent's ingest
     // is thread-safe and takes its lock only for the append.
     MtconnectAgent* agent = agent_.get();
@@ -89,7 +57,8 @@ void BridgeApp::run(std::ostream& log) {
   log << "mtc-bridge: serving MTConnect " << to_string(agent_->schema_version()) << " on http://"
       << (v6 ? "[" : "") << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port()
       << "/ (DDS domains " << domains.str() << "; devices from "
-      << (config_.devices_file.empty() ? std::string("DDS announcements") : config_.devices_file)
+      << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
+                                             : config_.agent.devices_file)
       << ")" << std::endl;
 
   signals_context.run();  // until a signal arrives

@@ -38,10 +38,4 @@ class BridgeApp {
   std::vector<std::unique_ptr<dds::DomainObserver>> observers_;
 };
 
-// AgentOptions from the configuration (buffer 2^BufferSize, Devices, ...).
-AgentOptions agent_options(const BridgeConfig& config);
-
-// ServerOptions from the configuration.
-ServerOptions server_options(const BridgeConfig& config);
-
 }  // namespace mtc::bridge
