@@ -26,26 +26,11 @@
 #include <vector>
 
 #include "mtc/bridge/agent.hpp"
+#include "mtc/bridge/model_error.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 
 namespace mtc::bridge {
-
-// A Devices file that cannot be used: unreadable, not XML, or not an
-// MTConnectDevices document the agent can serve. what() reads
-// "<file>:<line>: <reason>".
-class ModelError : public std::runtime_error {
- public:
-  ModelError(std::string file, std::size_t line, std::string reason);
-  const std::string& file() const noexcept { return file_; }
-  std::size_t line() const noexcept { return line_; }  // 0 when unknown
-  const std::string& reason() const noexcept { return reason_; }
-
- private:
-  std::string file_;
-  std::size_t line_;
-  std::string reason_;
-};
 
 struct AgentOptions {
   // MTConnect schema version of every document. Unset: the version of the
