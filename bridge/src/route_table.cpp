@@ -1,12 +1,36 @@
 #include "route_table.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
-
-#include "request.hpp"
 
 namespace mtc::bridge::detail {
 namespace {
+
+enum class IntegerError { None, NotInteger, Overflow };
+
+// Decimal integer, optional leading '-', nothing else (no spaces, no '+',
+// no hex, no fraction).
+IntegerError parse_integer(std::string_view text, std::int64_t& out) noexcept {
+  bool negative = false;
+  if (!text.empty() && text.front() == '-') {
+    negative = true;
+    text.remove_prefix(1);
+  }
+  if (text.empty()) return IntegerError::NotInteger;
+  for (char c : text) {
+    if (c < '0' || c > '9') return IntegerError::NotInteger;
+  }
+  constexpr auto kMax = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+  std::uint64_t value = 0;
+  for (char c : text) {
+    const auto digit = static_cast<std::uint64_t>(c - '0');
+    if (value > (kMax - digit) / 10) return IntegerError::Overflow;
+    value = value * 10 + digit;
+  }
+  out = negative ? -static_cast<std::int64_t>(value) : static_cast<std::int64_t>(value);
+  return IntegerError::None;
+}
 
 RequestError invalid_request(std::string text) {
   return {"INVALID_REQUEST", 400, std::move(text)};
