@@ -1,8 +1,7 @@
 // The MTConnect agent behind the HTTP server: turns a request
 // ("GET /probe", "GET /mill/sample?from=10&count=5") into a response
-// document. It
-// knows nothing of sockets; the HTTP server (bridge/server) knows nothing of
-// XML.
+// document. It knows nothing of sockets; the HTTP server (bridge/server)
+// knows nothing of XML.
 //
 // Thread safety: every member may be called from any thread at once; the
 // observation buffer underneath is internally synchronised.
@@ -31,8 +30,7 @@ struct Response {
 struct StreamPlan {
   bool is_sample = true;                   // false: /current?interval
   std::chrono::milliseconds interval{0};   // minimum time between parts
-  std::chrono::milliseconds heartbeat{0};  // idle time before an empty part (the
-                                           // request's, else AgentOptions::stream_heartbeat)
+  std::chrono::milliseconds heartbeat{0};  // idle time before an empty part
   std::uint64_t next_sequence = 0;         // where the next part starts
   RequestParameters parameters;            // what every part renders, read once
 };
