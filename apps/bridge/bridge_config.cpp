@@ -166,17 +166,6 @@ void set_domain_ids(BridgeConfig& c, std::string_view v, const std::string& orig
   c.domain_ids = std::move(ids);
 }
 
-void set_qos_profile(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  const bool ok = std::all_of(v.begin(), v.end(), [](char ch) {
-    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
-           ch == '_' || ch == '-' || ch == '.';
-  });
-  if (!ok) {
-    fail(origin, "QosProfile must be a preset name, not '" + std::string(v) + "'");
-  }
-  c.observer.qos_profile = std::string(v);
-}
-
 void set_device_filter(BridgeConfig& c, std::string_view v, const std::string&) {
   c.observer.device_filter.clear();
   for (auto item : split_list(v)) {
@@ -229,7 +218,7 @@ void set_write_timeout(BridgeConfig& c, std::string_view v, const std::string& o
   c.server.write_timeout = parse_ms(v, 100, 3600000, origin, "WriteTimeoutMs");
 }
 
-const std::array<Setting, 19> kSettings{{
+const std::array<Setting, 18> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -250,8 +239,6 @@ const std::array<Setting, 19> kSettings{{
        }
        return ids;
      }},
-    {"QosProfile", "--qos-profile", "mtc::qos preset of the state topics (default: the default)",
-     set_qos_profile},
     {"DeviceFilter", "--device-filter", "only these device uuids (default: all)",
      set_device_filter},
     {"IoThreads", "--io-threads", "HTTP io threads", set_io_threads,

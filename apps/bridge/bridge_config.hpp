@@ -26,7 +26,7 @@ struct BridgeConfig {
   // ServerIp, Port, IoThreads (WorkerThreads), MaxConnections,
   // HeaderTimeoutMs, IdleTimeoutMs, WriteTimeoutMs.
   ServerOptions server;
-  // QosProfile, DeviceFilter, Transport, and in `timing` HeartbeatMs and
+  // DeviceFilter, Transport, and in `timing` HeartbeatMs and
   // MissedHeartbeats: the DDS heartbeat of the observed devices and how many
   // may be missed; their product is the liveliness lease the observer asks
   // for (it must cover the longest lease of any device). domain_id is set

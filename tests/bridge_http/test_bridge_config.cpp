@@ -80,7 +80,6 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "Sender = \"cell #3\"\n"
       "\n"
       "   DomainIds = 3, 4 7\n"
-      "QosProfile = interface_state\n"
       "DeviceFilter = robot-1,mill-2\n"
       "WorkerThreads = 2\r\n"
       "HeartbeatMs = 500\n"
@@ -98,7 +97,6 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
   EXPECT_EQ(config.agent.schema_version, SchemaVersion::V1_8);
   EXPECT_EQ(config.agent.sender, "cell #3");
   EXPECT_EQ(config.domain_ids, (std::vector<int>{3, 4, 7}));
-  EXPECT_EQ(config.observer.qos_profile, "interface_state");
   EXPECT_EQ(config.observer.device_filter, (std::vector<std::string>{"robot-1", "mill-2"}));
   EXPECT_EQ(config.server.io_threads, 2U);
   EXPECT_EQ(config.observer.timing.heartbeat, 500ms);
@@ -147,7 +145,8 @@ INSTANTIATE_TEST_SUITE_P(
                   "agent.cfg:1: each of DomainIds must be an integer from 0 to 232"},
         Malformed{"DomainIds = 4, 4", "agent.cfg:1: DomainIds lists 4 twice"},
         Malformed{"DomainIds = ,", "agent.cfg:1: DomainIds needs at least one"},
-        Malformed{"QosProfile = a b", "agent.cfg:1: QosProfile must be a preset name"},
+        // The observer's QoS derives from the heartbeat; no profile selects it.
+        Malformed{"QosProfile = mtc.state", "agent.cfg:1: unknown key 'QosProfile'"},
         Malformed{"IoThreads = 0", "agent.cfg:1: IoThreads"},
         Malformed{"HeartbeatMs = 0", "agent.cfg:1: HeartbeatMs"},
         Malformed{"MissedHeartbeats = 1", "agent.cfg:1: MissedHeartbeats"},
