@@ -22,31 +22,19 @@
 #include "mtc/bridge/mtconnect_agent.hpp"
 #include "mtc/bridge/observation_buffer.hpp"
 #include "mtc/bridge/printer.hpp"
-#include "request.hpp"
+#include "route_table.hpp"
 
 namespace mtc::bridge::detail {
-
-// A request error: MTConnect errorCode, HTTP status, text.
-struct RequestError {
-  std::string_view code;
-  int status = 400;
-  std::string text;
-};
-
-// Validated query of a probe/current/sample request.
-struct Query {
-  std::optional<std::size_t> device;  // set by /{device}/...
-  std::optional<std::string> path;
-  std::optional<std::int64_t> at, from, to, count, interval, heartbeat;
-  bool pretty = false;
-};
 
 class AgentImpl final : public MtconnectAgent {
  public:
   explicit AgentImpl(const AgentOptions& options);
 
-  Routed route(std::string_view method, std::string_view target) noexcept override;
+  using Agent::route;
+  Routed route(const Request& request) noexcept override;
   Response next_part(StreamPlan& plan) noexcept override;
+  Response error_document(int status, std::string_view code,
+                          std::string_view message) noexcept override;
   std::uint64_t next_sequence() const noexcept override;
   bool wait_for(std::uint64_t from, std::chrono::milliseconds timeout) const override;
   std::uint64_t subscribe(std::function<void()> on_new_data) override;
@@ -76,8 +64,13 @@ class AgentImpl final : public MtconnectAgent {
   std::optional<std::size_t> resolve_value(const core::ObservedValue& value);
 
   // --- requests (caller holds data_ shared) ---
-  Routed route_target(std::string_view target);
-  Query parse_query(const Target& t, std::optional<std::size_t> device, bool sample) const;
+  // The route table (agent_routes.cpp), with defaults from options_.
+  RouteTable make_routes() const;
+  Routed handle_probe(const Query& q);
+  Routed handle_current(const Query& q);
+  Routed handle_sample(const Query& q);
+  Routed handle_assets(const Query& q);
+  Routed handle_asset(const Query& q);
   std::vector<std::int32_t> item_filter(const Query& q) const;
   HeaderInfo header() const;
   Response current(const Query& q, const std::string& cache_key);
@@ -85,13 +78,14 @@ class AgentImpl final : public MtconnectAgent {
   Response probe(const Query& q);
   Response error(const RequestError& e) const;
   Response error_locked(const RequestError& e) const;
-  Routed stream(const Query& q, std::string_view target, bool is_sample) const;
+  Routed stream(const Query& q, bool is_sample) const;
 
   AgentOptions options_;
   Printer printer_;
   std::uint64_t instance_id_ = 0;
   std::size_t max_count_ = 0;
   bool from_file_ = false;
+  RouteTable routes_;  // make_routes(), once options_ and max_count_ are set
 
   mutable std::shared_mutex data_;
   DeviceModel model_;

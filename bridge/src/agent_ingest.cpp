@@ -62,6 +62,7 @@ AgentImpl::AgentImpl(const AgentOptions& options)
                                                       .count());
   max_count_ = options.max_count == 0 ? options.buffer_size
                                       : std::min(options.max_count, options.buffer_size);
+  routes_ = make_routes();
   model_change_ns_ = now_ns();
   if (!options.devices_file.empty()) {
     model_ = DeviceModel::from_file(options.devices_file, slots_);
@@ -305,6 +306,10 @@ void AgentImpl::unsubscribe(std::uint64_t id) {
 
 std::unique_ptr<MtconnectAgent> make_agent(const AgentOptions& options) {
   if (options.buffer_size < 2) throw std::invalid_argument("buffer_size must be at least 2");
+  if (options.default_count == 0) throw std::invalid_argument("default_count must be at least 1");
+  if (options.stream_heartbeat.count() <= 0) {
+    throw std::invalid_argument("stream_heartbeat must be positive");
+  }
   return std::make_unique<detail::AgentImpl>(options);
 }
 

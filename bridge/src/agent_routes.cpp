@@ -1,6 +1,6 @@
-// AgentImpl: routing, parameter validation and document rendering.
+// AgentImpl: the route table, and the probe, current and assets handlers.
 //
-// Routes (device = name or uuid):
+// Routes (device = name or uuid), each a row of make_routes():
 //   /  /probe  /{device}  /{device}/probe        MTConnectDevices
 //   /current   /{device}/current                 MTConnectStreams (path, at, interval)
 //   /sample    /{device}/sample                  MTConnectStreams (path, from, to, count,
@@ -17,7 +17,21 @@ namespace mtc::bridge::detail {
 
 namespace {
 
+// Longest interval or heartbeat: what a signed 32-bit millisecond timer holds.
 constexpr std::int64_t kMaxMillis = 2147483646;
+
+using P = RequestParameters;
+
+// Every query parameter an MTConnect request may carry, with its type and
+// range; the routes below pick theirs and give some a default.
+const Param kPath = text_param("path", &P::path);
+const Param kPretty = flag_param("pretty", &P::pretty);
+const Param kAt = integer_param("at", &P::at);
+const Param kFrom = integer_param("from", &P::from);
+const Param kTo = integer_param("to", &P::to);
+const Param kCount = integer_param("count", &P::count);
+const Param kInterval = integer_param("interval", &P::interval).between(0, kMaxMillis);
+const Param kHeartbeat = integer_param("heartbeat", &P::heartbeat).between(1, kMaxMillis);
 
 std::int64_t now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -25,34 +39,40 @@ std::int64_t now_ns() {
       .count();
 }
 
-bool is_request(std::string_view s) {
-  return s == "probe" || s == "current" || s == "sample" || s == "assets";
+RequestError out_of_range(std::string text) {
+  return {"OUT_OF_RANGE", 400, std::move(text)};
 }
 
-RequestError out_of_range(std::string text) { return {"OUT_OF_RANGE", 400, std::move(text)}; }
-
-// Parameters that do not belong together or to this request, and the
-// ranges that do not depend on the buffer.
-void check_combination(const Query& q, bool sample) {
-  if (sample && q.at) throw RequestError{"INVALID_REQUEST", 400, "'at' applies to current only"};
-  if (!sample && (q.from || q.to || q.count)) {
-    throw RequestError{"INVALID_REQUEST", 400, "'from', 'to' and 'count' apply to sample only"};
-  }
-  if (q.at && q.interval) {
-    throw RequestError{"INVALID_REQUEST", 400, "'at' cannot be used with 'interval'"};
-  }
-  if (q.to && q.interval) {
-    throw RequestError{"INVALID_REQUEST", 400, "'to' cannot be used with 'interval'"};
-  }
-  if (q.interval && (*q.interval < 0 || *q.interval > kMaxMillis)) {
-    throw out_of_range("'interval' must be between 0 and " + std::to_string(kMaxMillis));
-  }
-  if (q.heartbeat && (*q.heartbeat < 1 || *q.heartbeat > kMaxMillis)) {
-    throw out_of_range("'heartbeat' must be between 1 and " + std::to_string(kMaxMillis));
-  }
+// /current documents are cached per device, path and layout.
+std::string current_cache_key(const Query& q) {
+  return std::to_string(q.device_index ? *q.device_index : SIZE_MAX) + '|' + q.path.value_or("") +
+         '|' + (q.pretty ? "p" : "");
 }
 
 }  // namespace
+
+RouteTable AgentImpl::make_routes() const {
+  const auto heartbeat = static_cast<std::int64_t>(options_.stream_heartbeat.count());
+  // The configured default, but never more than the buffer holds.
+  const auto count = static_cast<std::int64_t>(std::min(options_.default_count, max_count_));
+  // probe and assets read the query as current does.
+  const QuerySpec current{{kPath, kAt, kInterval, kHeartbeat.or_default(heartbeat), kPretty},
+                          {kFrom, kTo, kCount},
+                          "'from', 'to' and 'count' apply to sample only",
+                          {{"at", "interval"}}};
+  const QuerySpec sample{{kPath, kFrom, kTo, kCount.or_default(count), kInterval,
+                          kHeartbeat.or_default(heartbeat), kPretty},
+                         {kAt},
+                         "'at' applies to current only",
+                         {{"to", "interval"}}};
+  return RouteTable({
+      {{"/asset/{asset}", "/assets/{asset}"}, std::nullopt, &AgentImpl::handle_asset},
+      {{"/", "/probe", "/{device}", "/{device}/probe"}, current, &AgentImpl::handle_probe},
+      {{"/current", "/{device}/current"}, current, &AgentImpl::handle_current},
+      {{"/sample", "/{device}/sample"}, sample, &AgentImpl::handle_sample},
+      {{"/assets", "/{device}/assets"}, current, &AgentImpl::handle_assets},
+  });
+}
 
 HeaderInfo AgentImpl::header() const {
   HeaderInfo h;
@@ -84,14 +104,28 @@ Response AgentImpl::error(const RequestError& e) const {
   return error_locked(e);
 }
 
-Routed AgentImpl::route(std::string_view method, std::string_view target) noexcept {
+Response AgentImpl::error_document(int status, std::string_view code,
+                                   std::string_view message) noexcept {
   try {
-    if (method != "GET" && method != "HEAD") {
+    return error(RequestError{code, status, std::string(message)});
+  } catch (...) {
+    Response r;  // out of memory: the status alone
+    r.status = status;
+    return r;
+  }
+}
+
+Routed AgentImpl::route(const Request& request) noexcept {
+  try {
+    if (request.method != "GET" && request.method != "HEAD") {
       return Routed{error({"UNSUPPORTED", 405,
-                           "only GET is supported, not '" + std::string(method.substr(0, 32)) + "'"}),
+                           "only GET is supported, not '" + request.method.substr(0, 32) + "'"}),
                     std::nullopt};
     }
-    return route_target(target);
+    if (!request.target) throw RequestError{"INVALID_URI", 400, request.target_error};
+    std::shared_lock lock(data_);
+    const RouteTable::Match match = routes_.match(*request.target, model_);
+    return (this->*match.route->handler)(match.query);
   } catch (const RequestError& e) {
     return Routed{error(e), std::nullopt};
   } catch (const std::exception& e) {
@@ -103,110 +137,43 @@ Routed AgentImpl::route(std::string_view method, std::string_view target) noexce
   }
 }
 
-Routed AgentImpl::route_target(std::string_view target) {
-  std::string why;
-  const auto parsed = parse_target(target, why);
-  if (!parsed) throw RequestError{"INVALID_URI", 400, why};
-  const auto& seg = parsed->segments;
-  if (seg.size() >= 1 && (seg[0] == "asset" || seg[0] == "assets") && seg.size() == 2) {
-    throw RequestError{"ASSET_NOT_FOUND", 404, "the bridge stores no assets: '" + seg[1] + "'"};
-  }
-  std::shared_lock lock(data_);
-  std::optional<std::size_t> device;
-  std::string request = "probe";
-  if (seg.size() == 1) {
-    if (is_request(seg[0])) {
-      request = seg[0];
-    } else if (!(device = model_.find_device(seg[0]))) {
-      throw RequestError{"NO_DEVICE", 404, "no device named '" + seg[0] + "'"};
-    }
-  } else if (seg.size() == 2) {
-    if (!(device = model_.find_device(seg[0]))) {
-      throw RequestError{"NO_DEVICE", 404, "no device named '" + seg[0] + "'"};
-    }
-    if (!is_request(seg[1])) {
-      throw RequestError{"INVALID_URI", 404, "unknown request '" + seg[1] + "'"};
-    }
-    request = seg[1];
-  } else if (seg.size() > 2) {
-    throw RequestError{"INVALID_URI", 404, "unknown request path"};
-  }
-
-  const bool sample = request == "sample";
-  Query q = parse_query(*parsed, device, sample);
-  if (request == "probe") return Routed{probe(q), std::nullopt};
-  if (request == "assets") {
-    HeaderInfo h = header();
-    return Routed{Response{200, "text/xml", printer_.assets(h, q.pretty)}, std::nullopt};
-  }
-  if (q.interval) return stream(q, target, sample);
-  if (sample) {
-    std::uint64_t next = 0;
-    return Routed{this->sample(q, next), std::nullopt};
-  }
-  const std::string key = std::to_string(device ? *device : SIZE_MAX) + '|' +
-                          q.path.value_or("") + '|' + (q.pretty ? "p" : "");
-  return Routed{current(q, key), std::nullopt};
+Routed AgentImpl::handle_asset(const Query& q) {
+  throw RequestError{"ASSET_NOT_FOUND", 404, "the bridge stores no assets: '" + *q.asset + "'"};
 }
 
-Query AgentImpl::parse_query(const Target& t, std::optional<std::size_t> device,
-                             bool sample) const {
-  Query q;
-  q.device = device;
-  std::vector<std::string_view> seen;
-  for (const auto& [name, value] : t.query) {
-    for (std::string_view s : seen) {
-      if (s == name) throw RequestError{"INVALID_REQUEST", 400, "'" + name + "' given twice"};
-    }
-    seen.push_back(name);
-    if (name == "path") {
-      q.path = value;
-      continue;
-    }
-    if (name == "pretty") {
-      if (value != "true" && value != "false") {
-        throw RequestError{"INVALID_REQUEST", 400, "'pretty' must be true or false"};
-      }
-      q.pretty = value == "true";
-      continue;
-    }
-    std::optional<std::int64_t>* slot = name == "at"          ? &q.at
-                                         : name == "from"      ? &q.from
-                                         : name == "to"        ? &q.to
-                                         : name == "count"     ? &q.count
-                                         : name == "interval"  ? &q.interval
-                                         : name == "heartbeat" ? &q.heartbeat
-                                                               : nullptr;
-    if (!slot) continue;  // unknown parameters are ignored, as agents do
-    std::int64_t v = 0;
-    switch (parse_integer(value, v)) {
-      case IntegerError::NotInteger:
-        throw RequestError{"INVALID_REQUEST", 400, "'" + name + "' must be an integer, not '" +
-                                                       value.substr(0, 64) + "'"};
-      case IntegerError::Overflow:
-        throw out_of_range("'" + name + "' is too large");
-      case IntegerError::None:
-        break;
-    }
-    *slot = v;
-  }
-  check_combination(q, sample);
-  return q;
+Routed AgentImpl::handle_probe(const Query& q) {
+  return Routed{probe(q), std::nullopt};
+}
+
+Routed AgentImpl::handle_assets(const Query& q) {
+  return Routed{Response{200, "text/xml", printer_.assets(header(), q.pretty)}, std::nullopt};
+}
+
+Routed AgentImpl::handle_current(const Query& q) {
+  if (q.interval) return stream(q, false);
+  return Routed{current(q, current_cache_key(q)), std::nullopt};
+}
+
+Routed AgentImpl::handle_sample(const Query& q) {
+  if (q.interval) return stream(q, true);
+  std::uint64_t next = 0;
+  return Routed{sample(q, next), std::nullopt};
 }
 
 std::vector<std::int32_t> AgentImpl::item_filter(const Query& q) const {
   std::vector<std::size_t> items;
   if (q.path) {
     try {
-      items = model_.select(*q.path, q.device);
+      items = model_.select(*q.path, q.device_index);
     } catch (const std::invalid_argument& e) {
-      throw RequestError{"INVALID_PATH", 400, "the path could not be parsed: " + std::string(e.what())};
+      throw RequestError{"INVALID_PATH", 400,
+                         "the path could not be parsed: " + std::string(e.what())};
     }
     if (items.empty()) {
       throw RequestError{"INVALID_PATH", 400, "the path selects no data items: " + *q.path};
     }
   } else {
-    items = model_.all_items(q.device);
+    items = model_.all_items(q.device_index);
   }
   std::vector<std::int32_t> by_slot(slots_.size(), -1);
   for (std::size_t i : items) by_slot[model_.data_items()[i].slot] = static_cast<std::int32_t>(i);
@@ -214,13 +181,15 @@ std::vector<std::int32_t> AgentImpl::item_filter(const Query& q) const {
 }
 
 Response AgentImpl::probe(const Query& q) {
-  const std::string key = "probe|" + std::to_string(q.device ? *q.device : SIZE_MAX) + (q.pretty ? "p" : "");
+  const std::string key = "probe|" + std::to_string(q.device_index ? *q.device_index : SIZE_MAX) +
+                          (q.pretty ? "p" : "");
   {
     std::lock_guard lock(cache_mutex_);
     const auto it = cache_.find(key);
-    if (it != cache_.end() && it->second.generation == generation_) return {200, "text/xml", it->second.body};
+    if (it != cache_.end() && it->second.generation == generation_)
+      return {200, "text/xml", it->second.body};
   }
-  std::string body = printer_.probe(header(), model_, q.device, q.pretty);
+  std::string body = printer_.probe(header(), model_, q.device_index, q.pretty);
   std::lock_guard lock(cache_mutex_);
   cache_[key] = CachedDoc{generation_, 0, body};
   return {200, "text/xml", std::move(body)};
@@ -261,7 +230,7 @@ Response AgentImpl::current(const Query& q, const std::string& cache_key) {
   }
   std::sort(entries.begin(), entries.end(),
             [](const StreamEntry& a, const StreamEntry& b) { return a.item < b.item; });
-  std::string body = printer_.streams(h, model_, q.device, entries, q.pretty);
+  std::string body = printer_.streams(h, model_, q.device_index, entries, q.pretty);
   if (!q.at) {
     std::lock_guard lock(cache_mutex_);
     if (cache_.size() > 256) cache_.clear();  // bound memory against path variety

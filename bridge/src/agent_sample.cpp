@@ -14,8 +14,6 @@ namespace mtc::bridge::detail {
 
 namespace {
 
-constexpr std::int64_t kDefaultCount = 100;
-
 RequestError out_of_range(std::string text) { return {"OUT_OF_RANGE", 400, std::move(text)}; }
 
 }  // namespace
@@ -24,8 +22,7 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
   const auto first = static_cast<std::int64_t>(buffer_.first_sequence());
   const auto next = static_cast<std::int64_t>(buffer_.next_sequence());
   const auto max_count = static_cast<std::int64_t>(max_count_);
-  // Default count: 100, as agents use, but never more than the buffer holds.
-  const std::int64_t count = q.count.value_or(std::min(kDefaultCount, max_count));
+  const std::int64_t count = q.count.value();  // the route table gives its default
   if (q.from && (*q.from < first || *q.from > next)) {
     throw out_of_range("'from' must be between " + std::to_string(first) + " and " +
                        std::to_string(next));
@@ -71,18 +68,18 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
   HeaderInfo h = header();
   h.next_sequence = end;
   next_out = end;
-  return {200, "text/xml", printer_.streams(h, model_, q.device, entries, q.pretty)};
+  return {200, "text/xml", printer_.streams(h, model_, q.device_index, entries, q.pretty)};
 }
 
-Routed AgentImpl::stream(const Query& q, std::string_view target, bool is_sample) const {
+Routed AgentImpl::stream(const Query& q, bool is_sample) const {
   // Validate everything the parts will need now, so a bad request gets an
   // error response instead of a stream.
   (void)item_filter(q);
   StreamPlan plan;
   plan.is_sample = is_sample;
   plan.interval = std::chrono::milliseconds(*q.interval);
-  if (q.heartbeat) plan.heartbeat = std::chrono::milliseconds(*q.heartbeat);
-  plan.target = std::string(target);
+  plan.heartbeat = std::chrono::milliseconds(q.heartbeat.value());  // or the route's default
+  plan.parameters = q;
   if (is_sample) {
     std::uint64_t next = 0;
     Response first_part = sample(q, next);  // range checks of from/count
@@ -97,22 +94,17 @@ Routed AgentImpl::stream(const Query& q, std::string_view target, bool is_sample
 
 Response AgentImpl::next_part(StreamPlan& plan) noexcept {
   try {
-    std::string why;
-    const auto parsed = parse_target(plan.target, why);
-    if (!parsed) throw RequestError{"INVALID_URI", 400, why};
     std::shared_lock lock(data_);
-    std::optional<std::size_t> device;
-    const auto& seg = parsed->segments;
-    if (seg.size() == 2 && !(device = model_.find_device(seg[0]))) {
-      throw RequestError{"NO_DEVICE", 404, "no device named '" + seg[0] + "'"};
+    Query q;
+    static_cast<RequestParameters&>(q) = plan.parameters;
+    // By name: a rebuilt model may have moved the device.
+    if (q.device && !(q.device_index = model_.find_device(*q.device))) {
+      throw RequestError{"NO_DEVICE", 404, "no device named '" + *q.device + "'"};
     }
-    Query q = parse_query(*parsed, device, plan.is_sample);
     if (!plan.is_sample) {
       plan.next_sequence = buffer_.next_sequence();
       q.interval.reset();
-      const std::string key = std::to_string(device ? *device : SIZE_MAX) + '|' +
-                              q.path.value_or("") + '|' + (q.pretty ? "p" : "");
-      return current(q, key);
+      return handle_current(q).response.value();
     }
     if (plan.next_sequence < buffer_.first_sequence()) {
       throw RequestError{"OUT_OF_RANGE", 400,

@@ -6,8 +6,6 @@
 #include <cctype>
 #include <stdexcept>
 
-#include "mtc/bridge/mtconnect_agent.hpp"
-
 namespace mtc::bridge {
 
 ModelError::ModelError(std::string file, std::size_t line, std::string reason)

@@ -9,7 +9,6 @@
 #include <sstream>
 
 #include "mtc/bridge/device_model.hpp"
-#include "mtc/bridge/mtconnect_agent.hpp"
 
 namespace mtc::bridge {
 

@@ -136,12 +136,6 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
     : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
   impl_->callbacks = std::move(callbacks);
-  if (!options.qos_profile.empty()) {
-    throw ConfigError("DomainObserver: QoS profile '" + options.qos_profile +
-                      "' selects nothing: the observer reads with the " +
-                      std::string(qos::kStateObserverProfile) +
-                      " preset derived from its timing; leave the profile empty");
-  }
   try {
     qos::validate(options.timing);
   } catch (const std::invalid_argument& e) {

@@ -23,7 +23,9 @@ TEST(AgentStreams, IntervalRequestsBecomeStreamPlans) {
   EXPECT_TRUE(r.stream->is_sample);
   EXPECT_EQ(r.stream->interval.count(), 250);
   EXPECT_EQ(r.stream->heartbeat.count(), 2000);
-  EXPECT_EQ(r.stream->target, "/mill/sample?interval=250&heartbeat=2000&count=5");
+  // The parameters are typed once, for every part.
+  EXPECT_EQ(r.stream->parameters.device, "mill");
+  EXPECT_EQ(r.stream->parameters.count, 5);
   const Routed c = agent->route("GET", "/current?interval=0");
   ASSERT_TRUE(c.stream.has_value());
   EXPECT_FALSE(c.stream->is_sample);

@@ -1,6 +1,7 @@
 // A small but real Agent for the HTTP server tests: a sequence-numbered list
-// of observations, /probe, /current, /sample (with from/count/interval/
-// heartbeat), UNSUPPORTED for other methods, INVALID_URI for unknown paths.
+// of observations, /probe, /current, /sample (with from/interval/heartbeat),
+// UNSUPPORTED for other methods, INVALID_URI for unknown paths and targets
+// the server could not split.
 // Documents are tiny MTConnect-shaped XML built with pugixml, so tests can
 // assert on them with XPath. It stands in for helper-made agents only where
 // the server, not the XML, is under test.
@@ -13,9 +14,12 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <pugixml.hpp>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "mtc/bridge/agent.hpp"
@@ -55,7 +59,12 @@ class FakeAgent : public Agent {
     return subscribers_.size();
   }
 
-  static Response error_document(int status, std::string_view code, std::string_view message) {
+  Response error_document(int status, std::string_view code,
+                          std::string_view message) noexcept override {
+    return make_error(status, code, message);
+  }
+
+  static Response make_error(int status, std::string_view code, std::string_view message) {
     pugi::xml_document doc;
     auto root = doc.append_child("MTConnectError");
     root.append_child("Header").append_attribute("sender") = "fake";
@@ -65,43 +74,57 @@ class FakeAgent : public Agent {
     return {status, "text/xml", print(doc)};
   }
 
-  Routed route(std::string_view method, std::string_view target) noexcept override {
+  // The last request routed, as the server handed it over.
+  Request last_request() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return last_request_;
+  }
+
+  using Agent::route;
+  Routed route(const Request& request) noexcept override {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      last_request_ = request;
+    }
     Routed routed;
-    if (method != "GET") {
-      routed.response = error_document(405, "UNSUPPORTED", "only GET is supported");
+    if (request.method != "GET") {
+      routed.response = make_error(405, "UNSUPPORTED", "only GET is supported");
       return routed;
     }
-    const auto query_at = target.find('?');
-    const auto path = target.substr(0, query_at);
-    const auto query = parse_query(
-        query_at == std::string_view::npos ? std::string_view() : target.substr(query_at + 1));
-    if (path == "/probe") {
+    if (!request.target) {
+      routed.response = make_error(400, "INVALID_URI", request.target_error);
+      return routed;
+    }
+    const auto& segments = request.target->segments;
+    const auto& query = request.target->query;
+    const std::string path = segments.size() == 1 ? segments[0] : std::string();
+    if (path == "probe") {
       routed.response =
           Response{200, "text/xml", "<MTConnectDevices><Devices/></MTConnectDevices>"};
-    } else if (path == "/current" || path == "/sample") {
-      const bool sample = path == "/sample";
-      if (query.count("interval") != 0U) {
+    } else if (path == "current" || path == "sample") {
+      const bool sample = path == "sample";
+      if (number(query, "interval")) {
         StreamPlan plan;
         plan.is_sample = sample;
-        plan.interval = std::chrono::milliseconds(number(query, "interval", 0));
-        plan.heartbeat = std::chrono::milliseconds(number(query, "heartbeat", 10000));
-        plan.next_sequence = sample ? number(query, "from", next_sequence()) : next_sequence();
-        plan.target = std::string(target);
+        plan.interval = std::chrono::milliseconds(*number(query, "interval"));
+        plan.heartbeat = std::chrono::milliseconds(number(query, "heartbeat").value_or(10000));
+        plan.next_sequence =
+            sample ? number(query, "from").value_or(next_sequence()) : next_sequence();
         routed.stream = plan;
       } else {
         StreamPlan once;
         once.is_sample = sample;
-        once.next_sequence = number(query, "from", sample ? 1 : 0);
+        once.next_sequence = number(query, "from").value_or(sample ? 1 : 0);
         routed.response = next_part(once);
       }
     } else {
-      routed.response = error_document(404, "INVALID_URI", "no such path");
+      routed.response = make_error(404, "INVALID_URI", "no such path");
     }
     return routed;
   }
 
   Response next_part(StreamPlan& plan) noexcept override {
-    if (parts_fail_) return error_document(400, "OUT_OF_RANGE", "fell behind the buffer");
+    if (parts_fail_) return make_error(400, "OUT_OF_RANGE", "fell behind the buffer");
     std::lock_guard<std::mutex> lock(mutex_);
     pugi::xml_document doc;
     auto root = doc.append_child("MTConnectStreams");
@@ -160,26 +183,17 @@ class FakeAgent : public Agent {
     node.text() = o.value.c_str();
   }
 
-  static std::map<std::string, std::string> parse_query(std::string_view query) {
-    std::map<std::string, std::string> result;
-    while (!query.empty()) {
-      const auto amp = query.find('&');
-      const auto pair = query.substr(0, amp);
-      const auto eq = pair.find('=');
-      result[std::string(pair.substr(0, eq))] =
-          eq == std::string_view::npos ? std::string() : std::string(pair.substr(eq + 1));
-      query = amp == std::string_view::npos ? std::string_view() : query.substr(amp + 1);
+  // A query parameter as a number; nullopt when absent (the fake is lenient
+  // with malformed numbers: the server, not parameter checking, is tested).
+  static std::optional<std::uint64_t> number(
+      const std::vector<std::pair<std::string, std::string>>& query, std::string_view name) {
+    for (const auto& [key, text] : query) {
+      if (key != name) continue;
+      std::uint64_t value = 0;
+      std::from_chars(text.data(), text.data() + text.size(), value);
+      return value;
     }
-    return result;
-  }
-
-  static std::uint64_t number(const std::map<std::string, std::string>& query, const char* key,
-                              std::uint64_t fallback) {
-    const auto it = query.find(key);
-    if (it == query.end()) return fallback;
-    std::uint64_t value = fallback;
-    std::from_chars(it->second.data(), it->second.data() + it->second.size(), value);
-    return value;
+    return std::nullopt;
   }
 
   mutable std::mutex mutex_;
@@ -189,6 +203,7 @@ class FakeAgent : public Agent {
   std::uint64_t next_ = 1;
   std::atomic<bool> parts_fail_{false};
   std::uint64_t last_subscription_ = 0;
+  Request last_request_;
 };
 
 }  // namespace mtc::bridge::test

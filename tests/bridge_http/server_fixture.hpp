@@ -17,7 +17,6 @@ inline ServerOptions test_options() {
   ServerOptions options;
   options.port = 0;
   options.io_threads = 2;
-  options.error_document = &FakeAgent::error_document;
   return options;
 }
 

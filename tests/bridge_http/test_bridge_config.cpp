@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "mtc/bridge/bridge_config.hpp"
+#include "bridge_config.hpp"
 
 namespace mtc::bridge {
 namespace {
@@ -31,16 +31,42 @@ std::string error_of(const std::string& text) {
 
 TEST(BridgeConfig, DefaultsMatchTheDocumentation) {
   const BridgeConfig config;
-  EXPECT_EQ(config.server_ip, "127.0.0.1");
-  EXPECT_EQ(config.port, 5000);
-  EXPECT_EQ(config.buffer_size_exponent, 17U);
-  EXPECT_TRUE(config.schema_version.empty());  // the agent decides
+  EXPECT_EQ(config.server.bind_address, "127.0.0.1");
+  EXPECT_EQ(config.server.port, 5000);
+  EXPECT_EQ(config.agent.buffer_size, 131072U);  // BufferSize = 17
+  EXPECT_FALSE(config.agent.schema_version);     // the agent decides
   EXPECT_EQ(config.domain_ids, std::vector<int>{0});
-  EXPECT_EQ(config.io_threads, 1U);
-  EXPECT_EQ(config.heartbeat, 100ms);
-  EXPECT_EQ(config.missed_heartbeats, 3);
-  EXPECT_EQ(config.transport, "loopback");
-  EXPECT_EQ(config.stream_heartbeat, 10000ms);
+  EXPECT_EQ(config.server.io_threads, 1U);
+  EXPECT_EQ(config.observer.timing.heartbeat, 100ms);
+  EXPECT_EQ(config.observer.timing.missed_heartbeats, 3);
+  EXPECT_EQ(config.observer.transport, qos::Transport::Loopback);
+  EXPECT_EQ(config.agent.stream_heartbeat, 10000ms);
+}
+
+TEST(BridgeConfig, TransportsAreNamedAsMtcQosNamesThem) {
+  for (const qos::Transport transport : qos::kAllTransports) {
+    const std::string name(qos::to_string(transport));
+    EXPECT_EQ(parse("Transport = " + name).observer.transport, transport) << name;
+  }
+  EXPECT_NE(error_of("Transport = builtin")
+                .find("Transport must be loopback, loopback-udp, test or network, not 'builtin'"),
+            std::string::npos);
+}
+
+TEST(BridgeConfig, HelpShowsTheDefaultsOfTheOptionsItHolds) {
+  const auto text = usage_text("mtc-bridge");
+  const BridgeConfig defaults;
+  for (const std::string& expected : std::vector<std::string>{
+           "Port: HTTP port, 0 = any free port (default " + std::to_string(defaults.server.port) +
+               ")",
+           "BufferSize: observation buffer holds 2^n entries (default 17)",
+           "HeartbeatMs: DDS heartbeat period of the devices (default " +
+               std::to_string(defaults.observer.timing.heartbeat.count()) + ")",
+           "(default " + std::to_string(defaults.agent.stream_heartbeat.count()) + ")",
+           "Transport: DDS transport: loopback, loopback-udp, test or network (default "
+           "loopback)"}) {
+    EXPECT_NE(text.find(expected), std::string::npos) << expected << "\nin:\n" << text;
+  }
 }
 
 TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
@@ -54,7 +80,6 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "Sender = \"cell #3\"\n"
       "\n"
       "   DomainIds = 3, 4 7\n"
-      "QosProfile = interface_state\n"
       "DeviceFilter = robot-1,mill-2\n"
       "WorkerThreads = 2\r\n"
       "HeartbeatMs = 500\n"
@@ -65,24 +90,23 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "HeaderTimeoutMs = 2000\n"
       "IdleTimeoutMs = 3000\n"
       "WriteTimeoutMs = 4000");
-  EXPECT_EQ(config.devices_file, "/etc/mtc/Devices.xml");
-  EXPECT_EQ(config.server_ip, "::1");
-  EXPECT_EQ(config.port, 5001);
-  EXPECT_EQ(config.buffer_size_exponent, 12U);
-  EXPECT_EQ(config.schema_version, "1.8");
-  EXPECT_EQ(config.sender, "cell #3");
+  EXPECT_EQ(config.agent.devices_file, "/etc/mtc/Devices.xml");
+  EXPECT_EQ(config.server.bind_address, "::1");
+  EXPECT_EQ(config.server.port, 5001);
+  EXPECT_EQ(config.agent.buffer_size, 4096U);
+  EXPECT_EQ(config.agent.schema_version, SchemaVersion::V1_8);
+  EXPECT_EQ(config.agent.sender, "cell #3");
   EXPECT_EQ(config.domain_ids, (std::vector<int>{3, 4, 7}));
-  EXPECT_EQ(config.qos_profile, "interface_state");
-  EXPECT_EQ(config.device_filter, (std::vector<std::string>{"robot-1", "mill-2"}));
-  EXPECT_EQ(config.io_threads, 2U);
-  EXPECT_EQ(config.heartbeat, 500ms);
-  EXPECT_EQ(config.missed_heartbeats, 4);
-  EXPECT_EQ(config.transport, "network");
-  EXPECT_EQ(config.stream_heartbeat, 2000ms);
-  EXPECT_EQ(config.max_connections, 10U);
-  EXPECT_EQ(config.header_timeout, 2000ms);
-  EXPECT_EQ(config.idle_timeout, 3000ms);
-  EXPECT_EQ(config.write_timeout, 4000ms);
+  EXPECT_EQ(config.observer.device_filter, (std::vector<std::string>{"robot-1", "mill-2"}));
+  EXPECT_EQ(config.server.io_threads, 2U);
+  EXPECT_EQ(config.observer.timing.heartbeat, 500ms);
+  EXPECT_EQ(config.observer.timing.missed_heartbeats, 4);
+  EXPECT_EQ(config.observer.transport, qos::Transport::Network);
+  EXPECT_EQ(config.agent.stream_heartbeat, 2000ms);
+  EXPECT_EQ(config.server.max_connections, 10U);
+  EXPECT_EQ(config.server.header_timeout, 2000ms);
+  EXPECT_EQ(config.server.idle_timeout, 3000ms);
+  EXPECT_EQ(config.server.write_timeout, 4000ms);
 }
 
 struct Malformed {
@@ -121,7 +145,8 @@ INSTANTIATE_TEST_SUITE_P(
                   "agent.cfg:1: each of DomainIds must be an integer from 0 to 232"},
         Malformed{"DomainIds = 4, 4", "agent.cfg:1: DomainIds lists 4 twice"},
         Malformed{"DomainIds = ,", "agent.cfg:1: DomainIds needs at least one"},
-        Malformed{"QosProfile = a b", "agent.cfg:1: QosProfile must be a preset name"},
+        // The observer's QoS derives from the heartbeat; no profile selects it.
+        Malformed{"QosProfile = mtc.state", "agent.cfg:1: unknown key 'QosProfile'"},
         Malformed{"IoThreads = 0", "agent.cfg:1: IoThreads"},
         Malformed{"HeartbeatMs = 0", "agent.cfg:1: HeartbeatMs"},
         Malformed{"MissedHeartbeats = 1", "agent.cfg:1: MissedHeartbeats"},
@@ -166,14 +191,14 @@ class CommandLineTest : public ::testing::Test {
 TEST_F(CommandLineTest, FlagsOverrideTheFileWhateverTheOrder) {
   const auto line = run({"--port", "6001", "--config", path_.c_str(), "--sender=flag"});
   EXPECT_EQ(line.config_file, path_);
-  EXPECT_EQ(line.config.port, 6001);
-  EXPECT_EQ(line.config.sender, "flag");
+  EXPECT_EQ(line.config.server.port, 6001);
+  EXPECT_EQ(line.config.agent.sender, "flag");
   EXPECT_EQ(line.config.domain_ids, std::vector<int>{81});
 }
 
 TEST_F(CommandLineTest, ALoneArgumentIsTheConfigFile) {
-  EXPECT_EQ(run({path_.c_str()}).config.port, 6000);
-  EXPECT_EQ(run({"--bind", "127.0.0.2", path_.c_str()}).config.server_ip, "127.0.0.2");
+  EXPECT_EQ(run({path_.c_str()}).config.server.port, 6000);
+  EXPECT_EQ(run({"--bind", "127.0.0.2", path_.c_str()}).config.server.bind_address, "127.0.0.2");
 }
 
 TEST_F(CommandLineTest, HelpNeedsNoValidConfig) {

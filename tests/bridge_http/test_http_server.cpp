@@ -81,6 +81,22 @@ TEST_F(ServerTest, ErrorsComeFromTheAgentWithTheirStatus) {
                "INVALID_URI");
 }
 
+TEST_F(ServerTest, TheAgentGetsTheTargetSplitAndDecoded) {
+  ASSERT_EQ(get("/mill/sample?from=3&path=a%20b+c").status, 404);  // the fake has no devices
+  const Request seen = agent_->last_request();
+  EXPECT_EQ(seen.method, "GET");
+  ASSERT_TRUE(seen.target);
+  EXPECT_EQ(seen.target->segments, (std::vector<std::string>{"mill", "sample"}));
+  using Pairs = std::vector<std::pair<std::string, std::string>>;
+  EXPECT_EQ(seen.target->query, (Pairs{{"from", "3"}, {"path", "a b c"}}));
+  // A target that does not split reaches the agent as such: its answer.
+  const auto bad = get("/current%zz");
+  EXPECT_EQ(bad.status, 400);
+  EXPECT_FALSE(agent_->last_request().target);
+  EXPECT_STREQ(parse_xml(bad.body).select_node("//Error/@errorCode").attribute().value(),
+               "INVALID_URI");
+}
+
 TEST_F(ServerTest, OtherMethodsGetTheAgentsUnsupportedAnswer) {
   RawClient client(port());
   client.send("DELETE /current HTTP/1.1\r\nHost: x\r\n\r\n");

@@ -89,18 +89,6 @@ TEST_F(StreamTest, HeartbeatPartsArriveWhenIdle) {
   EXPECT_GE(Clock::now() - before, 550ms);
 }
 
-TEST_F(StreamTest, ConfiguredHeartbeatAppliesOnlyWhenTheRequestNamesNone) {
-  auto options = test_options();
-  options.default_heartbeat = 100ms;
-  restart(options);
-  auto defaulted = open("/sample?interval=0");  // fake agent's own default: 10 s
-  ASSERT_TRUE(defaulted->read_part());
-  EXPECT_TRUE(defaulted->read_part(3s)) << "no heartbeat at the configured 100 ms";
-  auto explicit_beat = open("/sample?interval=0&heartbeat=60000");
-  ASSERT_TRUE(explicit_beat->read_part());
-  EXPECT_FALSE(explicit_beat->read_part(500ms)) << "the request's heartbeat was overridden";
-}
-
 TEST_F(StreamTest, IntervalLimitsThePartRate) {
   auto client = open("/sample?interval=150&heartbeat=10000");
   ASSERT_TRUE(client->read_part());

@@ -203,9 +203,6 @@ TEST(DomainObserver, StateOutsideTheVocabularyIsKeptAsSent) {
 TEST(DomainObserver, BadOptionsThrowTypedErrors) {
   Recorder rec;
   auto o = options(23);
-  o.qos_profile = "mtc.state";  // endpoint QoS is not selectable
-  EXPECT_THROW(mtc::dds::DomainObserver(o, rec.callbacks()), mtc::dds::ConfigError);
-  o = options(23);
   o.timing.missed_heartbeats = 1;
   EXPECT_THROW(mtc::dds::DomainObserver(o, rec.callbacks()), mtc::dds::ConfigError);
   o = options(500);

@@ -35,27 +35,6 @@ bool is_quiet_close(const beast::error_code& ec) {
          ec == asio::error::broken_pipe || ec == asio::error::bad_descriptor;
 }
 
-// Whether the query of `target` names parameter `name`.
-bool has_query_parameter(std::string_view target, std::string_view name) {
-  const auto question = target.find('?');
-  if (question == std::string_view::npos) {
-    return false;
-  }
-  std::string_view query = target.substr(question + 1);
-  while (!query.empty()) {
-    const auto amp = query.find('&');
-    const auto pair = query.substr(0, amp);
-    if (pair.substr(0, pair.find('=')) == name) {
-      return true;
-    }
-    if (amp == std::string_view::npos) {
-      break;
-    }
-    query.remove_prefix(amp + 1);
-  }
-  return false;
-}
-
 // True when the request line in `data` ends in a well-formed "HTTP/d.d",
 // i.e. the client speaks a version we do not (Beast accepts only 1.0/1.1).
 bool names_other_http_version(std::string_view data) {
@@ -169,14 +148,13 @@ void Session::on_header(beast::error_code ec) {
 }
 
 void Session::handle_request() {
-  const auto& request = parser_->get();
-  version_ = request.version() == 10 ? 10 : 11;  // the parser admits no other
-  const bool head_only = request.method() == http::verb::head;
+  const auto& message = parser_->get();
+  version_ = message.version() == 10 ? 10 : 11;  // the parser admits no other
+  const bool head_only = message.method() == http::verb::head;
   const std::string_view method =
       head_only ? std::string_view("GET")
-                : std::string_view(request.method_string().data(), request.method_string().size());
-  const std::string_view target(request.target().data(), request.target().size());
-  bool keep_alive = request.keep_alive();
+                : std::string_view(message.method_string().data(), message.method_string().size());
+  bool keep_alive = message.keep_alive();
 
   // The agent is read-only: a request body is never read. GET with one is
   // refused; other methods still get the agent's UNSUPPORTED answer.
@@ -188,12 +166,11 @@ void Session::handle_request() {
     }
   }
 
-  Routed routed = shared_->agent->route(method, target);
+  // The target is split here, once; the agent types its parameters once,
+  // and a stream keeps them for every part.
+  const Request request = parse_request(method, {message.target().data(), message.target().size()});
+  Routed routed = shared_->agent->route(request);
   if (routed.stream && !head_only && !shared_->stopping) {
-    const auto default_heartbeat = shared_->options.default_heartbeat;
-    if (default_heartbeat.count() > 0 && !has_query_parameter(target, "heartbeat")) {
-      routed.stream->heartbeat = default_heartbeat;
-    }
     start_stream(std::move(*routed.stream));
   } else if (routed.stream) {
     Response response;  // HEAD of a stream: headers only, then close
@@ -228,15 +205,8 @@ void Session::answer(Response response, bool keep_alive, bool head_only) {
 }
 
 void Session::answer_error(int status, std::string_view code, std::string_view message) {
-  Response response;
-  if (shared_->options.error_document) {
-    response = shared_->options.error_document(status, code, message);
-    response.status = status;
-  } else {
-    response.status = status;
-    response.content_type = "text/plain";
-    response.body = std::string(code) + ": " + std::string(message) + "\n";
-  }
+  Response response = shared_->agent->error_document(status, code, message);
+  response.status = status;
   answer(std::move(response), false, false);
 }
 

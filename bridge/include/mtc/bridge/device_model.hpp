@@ -20,6 +20,7 @@
 
 #include <pugixml.hpp>
 
+#include "mtc/bridge/model_error.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 

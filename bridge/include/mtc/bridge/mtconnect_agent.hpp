@@ -14,6 +14,7 @@
 // microseconds; rendering happens under a reader lock or from a cache.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -25,26 +26,11 @@
 #include <vector>
 
 #include "mtc/bridge/agent.hpp"
+#include "mtc/bridge/model_error.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 
 namespace mtc::bridge {
-
-// A Devices file that cannot be used: unreadable, not XML, or not an
-// MTConnectDevices document the agent can serve. what() reads
-// "<file>:<line>: <reason>".
-class ModelError : public std::runtime_error {
- public:
-  ModelError(std::string file, std::size_t line, std::string reason);
-  const std::string& file() const noexcept { return file_; }
-  std::size_t line() const noexcept { return line_; }  // 0 when unknown
-  const std::string& reason() const noexcept { return reason_; }
-
- private:
-  std::string file_;
-  std::size_t line_;
-  std::string reason_;
-};
 
 struct AgentOptions {
   // MTConnect schema version of every document. Unset: the version of the
@@ -64,6 +50,12 @@ struct AgentOptions {
   std::uint64_t instance_id = 0;
   // Largest count a /sample may ask for; 0 = buffer_size.
   std::size_t max_count = 0;
+  // Observations a /sample returns when the request names no count, as
+  // MTConnect agents do (never more than max_count).
+  std::size_t default_count = 100;
+  // Time without news before a stream sends an empty part, when the request
+  // names no heartbeat (MTConnect agents: 10 s).
+  std::chrono::milliseconds stream_heartbeat{10000};
   // Told (once per item, on the ingest thread, no lock held) about values
   // the model has no item for, e.g. "value for cell-machine/foo dropped: no
   // such DataItem in cell.xml". Empty: silent (stats() still counts).
@@ -105,7 +97,8 @@ class MtconnectAgent : public Agent {
 };
 
 // Builds the agent. Throws ModelError for an unusable Devices file and
-// std::invalid_argument for unusable options (buffer_size < 2).
+// std::invalid_argument for unusable options (buffer_size < 2,
+// default_count 0, stream_heartbeat not positive).
 std::unique_ptr<MtconnectAgent> make_agent(const AgentOptions& options);
 
 }  // namespace mtc::bridge

@@ -46,9 +46,7 @@ struct DomainObserverOptions {
   // Endpoint QoS is not selectable: the observer reads state topics with
   // qos::state_observer_topic(timing) and announcements with
   // qos::device_description_topic(timing), the only presets that match the
-  // devices' writers. Kept so that callers which still set it compile until
-  // they drop it; any non-empty value is a ConfigError. To be removed.
-  std::string qos_profile;
+  // devices' writers.
   // Only these devices (uuid); empty = all.
   std::vector<std::string> device_filter;
   // Transport of the observer's participant (loopback only by default).

@@ -30,9 +30,6 @@ enum class Transport : std::uint8_t {
   LoopbackTest,  // Fast DDS test_UDPv4 transport on 127.0.0.1: fault injection
   Network,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
                  // for deployment on a real cell network only, never in tests
-  // Former name of Network, kept only until mtc-bridge's sources (reworked
-  // elsewhere) use Network; not a transport of its own. To be removed.
-  Builtin = Network,
 };
 
 inline constexpr std::array<Transport, 4> kAllTransports = {

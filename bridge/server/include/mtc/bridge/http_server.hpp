@@ -2,10 +2,9 @@
 // with hard limits, hands each request target to an mtc::bridge::Agent and
 // writes what it answers, including multipart/x-mixed-replace streams.
 //
-// It knows nothing of XML: documents come from the Agent; the few errors the
-// server finds itself (unparsable request, oversized header, request body)
-// are rendered by ServerOptions::error_document, which the bridge wires to
-// the agent's MTConnectError printer.
+// It knows nothing of XML: documents come from the Agent, including those
+// for the few errors the server finds itself (unparsable request, oversized
+// header, request body, too many connections: Agent::error_document).
 //
 // Threads: `io_threads` threads run one io_context; every connection lives on
 // its own strand, so a slow or hostile client never blocks another one.
@@ -14,19 +13,12 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
-#include <string_view>
 
 #include "mtc/bridge/agent.hpp"
 
 namespace mtc::bridge {
-
-// Renders an error the server detected before the Agent saw the request.
-// `code` is an MTConnect error code (e.g. "INVALID_REQUEST").
-using ErrorDocumentFn =
-    std::function<Response(int status, std::string_view code, std::string_view message)>;
 
 struct ServerOptions {
   std::string bind_address = "127.0.0.1";  // loopback unless told otherwise
@@ -41,10 +33,7 @@ struct ServerOptions {
   // A write (response or stream part) the client does not take in this
   // long closes the connection: a stalled reader cannot pin memory.
   std::chrono::milliseconds write_timeout{30000};
-  // Heartbeat of a stream whose request names none; 0 keeps the agent's.
-  std::chrono::milliseconds default_heartbeat{0};
   std::string server_name = "mtc-bridge";
-  ErrorDocumentFn error_document;  // empty: a plain-text body
 };
 
 class HttpServer {

@@ -6,7 +6,7 @@
 #include <ostream>
 #include <vector>
 
-#include "mtc/bridge/bridge_config.hpp"
+#include "bridge_config.hpp"
 #include "mtc/bridge/http_server.hpp"
 #include "mtc/bridge/mtconnect_agent.hpp"
 #include "mtc/dds/domain_observer.hpp"
@@ -37,13 +37,5 @@ class BridgeApp {
   std::unique_ptr<HttpServer> server_;
   std::vector<std::unique_ptr<dds::DomainObserver>> observers_;
 };
-
-// AgentOptions from the configuration (buffer 2^BufferSize, Devices, ...).
-AgentOptions agent_options(const BridgeConfig& config);
-
-// ServerOptions from the configuration, with MTConnectError documents for
-// the errors the server finds itself, printed like the agent's own.
-ServerOptions server_options(const BridgeConfig& config,
-                             const std::shared_ptr<MtconnectAgent>& agent);
 
 }  // namespace mtc::bridge

@@ -1,6 +1,7 @@
-// The MTConnect agent behind the HTTP server: turns a request target
-// ("/probe", "/mill/sample?from=10&count=5") into a response document. It
-// knows nothing of sockets; bridge/src/http_server.* knows nothing of XML.
+// The MTConnect agent behind the HTTP server: turns a request
+// ("GET /probe", "GET /mill/sample?from=10&count=5") into a response
+// document. It knows nothing of sockets; the HTTP server (bridge/server)
+// knows nothing of XML.
 //
 // Thread safety: every member may be called from any thread at once; the
 // observation buffer underneath is internally synchronised.
@@ -14,22 +15,24 @@
 #include <string>
 #include <string_view>
 
+#include "mtc/bridge/request.hpp"
+
 namespace mtc::bridge {
 
 struct Response {
-  int status = 200;                           // HTTP status
-  std::string content_type = "text/xml";      // always XML documents for now
+  int status = 200;                       // HTTP status
+  std::string content_type = "text/xml";  // always XML documents for now
   std::string body;
 };
 
 // A streaming request (/sample or /current with interval=...): the server
 // asks the agent for one part at a time and writes each as a multipart part.
 struct StreamPlan {
-  bool is_sample = true;                       // false: /current?interval
-  std::chrono::milliseconds interval{0};       // minimum time between parts
-  std::chrono::milliseconds heartbeat{10000};  // idle time before an empty part
-  std::uint64_t next_sequence = 0;             // where the next part starts
-  std::string target;                          // the original request target
+  bool is_sample = true;                   // false: /current?interval
+  std::chrono::milliseconds interval{0};   // minimum time between parts
+  std::chrono::milliseconds heartbeat{0};  // idle time before an empty part
+  std::uint64_t next_sequence = 0;         // where the next part starts
+  RequestParameters parameters;            // what every part renders, read once
 };
 
 class Agent;
@@ -44,9 +47,13 @@ class Agent {
  public:
   virtual ~Agent() = default;
 
-  // Routes one request. Never throws: bad requests become an MTConnectError
-  // document with the matching HTTP status.
-  virtual Routed route(std::string_view method, std::string_view target) noexcept = 0;
+  // Routes one request. Never throws: bad requests (an unparsable target
+  // included) become an MTConnectError document with the matching HTTP
+  // status.
+  virtual Routed route(const Request& request) noexcept = 0;
+
+  // Splits `target` (parse_request) and routes it.
+  Routed route(std::string_view method, std::string_view target) noexcept;
 
   // Next part of a stream: the document for observations from
   // plan.next_sequence on (advancing it), or, when there are none, an empty
@@ -54,6 +61,13 @@ class Agent {
   // is an MTConnectError (e.g. OUT_OF_RANGE: the stream fell behind the
   // buffer): write it, then end the stream.
   virtual Response next_part(StreamPlan& plan) noexcept = 0;
+
+  // An MTConnectError document for a problem the front end found before
+  // any route could (unparsable request, oversized header, request body,
+  // too many connections), printed like the agent's own errors. `code` is
+  // an MTConnect errorCode such as "INVALID_REQUEST". Never throws.
+  virtual Response error_document(int status, std::string_view code,
+                                  std::string_view message) noexcept = 0;
 
   // Sequence number the next observation will take; lets a stream wait.
   virtual std::uint64_t next_sequence() const noexcept = 0;

@@ -1,20 +1,26 @@
-#include "mtc/bridge/bridge_config.hpp"
+#include "bridge_config.hpp"
 
 #include <arpa/inet.h>
 
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <chrono>
+#include <cstdint>
 #include <fstream>
 #include <map>
 #include <sstream>
 
 #include "mtc/bridge/schema_version.hpp"
+#include "mtc/qos/participant.hpp"
 
 namespace mtc::bridge {
 namespace {
 
 using Setter = void (*)(BridgeConfig&, std::string_view value, const std::string& origin);
+// The setting's value in a configuration, as --help shows the default;
+// nullptr when the help text says what the default means.
+using Shower = std::string (*)(const BridgeConfig&);
 
 // One row per setting: file key, command-line flag, help text.
 struct Setting {
@@ -22,6 +28,7 @@ struct Setting {
   std::string_view flag;
   std::string_view help;
   Setter set;
+  Shower show = nullptr;
 };
 
 [[noreturn]] void fail(const std::string& origin, const std::string& message) {
@@ -93,8 +100,21 @@ bool is_printable(std::string_view value) {
                      [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; });
 }
 
+// BufferSize is an exponent, as in cppagent: the buffer holds 2^n.
+unsigned buffer_exponent(std::size_t buffer_size) {
+  unsigned n = 0;
+  while ((std::size_t{2} << n) <= buffer_size) {
+    ++n;
+  }
+  return n;
+}
+
+std::string show_ms(std::chrono::milliseconds ms) {
+  return std::to_string(ms.count());
+}
+
 void set_devices(BridgeConfig& c, std::string_view v, const std::string&) {
-  c.devices_file = std::string(v);
+  c.agent.devices_file = std::string(v);
 }
 
 void set_server_ip(BridgeConfig& c, std::string_view v, const std::string& origin) {
@@ -104,37 +124,37 @@ void set_server_ip(BridgeConfig& c, std::string_view v, const std::string& origi
       inet_pton(AF_INET6, text.c_str(), bytes.data()) != 1) {
     fail(origin, "ServerIp must be an IPv4 or IPv6 address, not '" + text + "'");
   }
-  c.server_ip = text;
+  c.server.bind_address = text;
 }
 
 void set_port(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.port = parse_int<std::uint16_t>(v, 0, 65535, origin, "Port");
+  c.server.port = parse_int<std::uint16_t>(v, 0, 65535, origin, "Port");
 }
 
 void set_buffer_size(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  // Like cppagent's BufferSize: an exponent, the buffer holds 2^n observations.
-  c.buffer_size_exponent = parse_int<unsigned>(v, 1, 30, origin, "BufferSize (exponent)");
+  const auto exponent = parse_int<unsigned>(v, 1, 30, origin, "BufferSize (exponent)");
+  c.agent.buffer_size = std::size_t{1} << exponent;
 }
 
 void set_schema_version(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  if (!parse_schema_version(v)) {
+  const auto version = parse_schema_version(v);
+  if (!version) {
     fail(origin, "SchemaVersion must be one of 1.3, 1.6, 1.8, 2.0, not '" + std::string(v) + "'");
   }
-  c.schema_version = std::string(v);
+  c.agent.schema_version = version;
 }
 
 void set_sender(BridgeConfig& c, std::string_view v, const std::string& origin) {
   if (!is_printable(v)) {
     fail(origin, "Sender contains control characters");
   }
-  c.sender = std::string(v);
+  c.agent.sender = std::string(v);
 }
 
 void set_domain_ids(BridgeConfig& c, std::string_view v, const std::string& origin) {
   std::vector<int> ids;
   for (auto item : split_list(v)) {
-    // 232 is the largest id the RTPS well-known port mapping allows.
-    const int id = parse_int<int>(item, 0, 232, origin, "each of DomainIds");
+    const int id = parse_int<int>(item, 0, qos::kMaxDomainId, origin, "each of DomainIds");
     if (std::find(ids.begin(), ids.end(), id) != ids.end()) {
       fail(origin, "DomainIds lists " + std::to_string(id) + " twice");
     }
@@ -146,99 +166,103 @@ void set_domain_ids(BridgeConfig& c, std::string_view v, const std::string& orig
   c.domain_ids = std::move(ids);
 }
 
-void set_qos_profile(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  const bool ok = std::all_of(v.begin(), v.end(), [](char ch) {
-    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
-           ch == '_' || ch == '-' || ch == '.';
-  });
-  if (!ok) {
-    fail(origin, "QosProfile must be a preset name, not '" + std::string(v) + "'");
-  }
-  c.qos_profile = std::string(v);
-}
-
 void set_device_filter(BridgeConfig& c, std::string_view v, const std::string&) {
-  c.device_filter.clear();
+  c.observer.device_filter.clear();
   for (auto item : split_list(v)) {
-    c.device_filter.emplace_back(item);
+    c.observer.device_filter.emplace_back(item);
   }
 }
 
 void set_io_threads(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.io_threads = parse_int<unsigned>(v, 1, 64, origin, "IoThreads");
+  c.server.io_threads = parse_int<unsigned>(v, 1, 64, origin, "IoThreads");
 }
 
 void set_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.heartbeat = parse_ms(v, 1, 600000, origin, "HeartbeatMs");
+  c.observer.timing.heartbeat = parse_ms(v, 1, 600000, origin, "HeartbeatMs");
 }
 
 void set_missed_heartbeats(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.missed_heartbeats = parse_int<int>(v, 2, 100, origin, "MissedHeartbeats");
+  c.observer.timing.missed_heartbeats = parse_int<int>(v, 2, 100, origin, "MissedHeartbeats");
 }
 
 void set_transport(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  if (v != "loopback" && v != "loopback-udp" && v != "network") {
-    fail(origin,
-         "Transport must be loopback, loopback-udp or network, not '" + std::string(v) + "'");
+  const auto transport = qos::parse_transport(v);
+  if (!transport) {
+    std::string names;
+    for (std::size_t i = 0; i < qos::kAllTransports.size(); ++i) {
+      names += i == 0 ? "" : i + 1 == qos::kAllTransports.size() ? " or " : ", ";
+      names += qos::to_string(qos::kAllTransports[i]);
+    }
+    fail(origin, "Transport must be " + names + ", not '" + std::string(v) + "'");
   }
-  c.transport = std::string(v);
+  c.observer.transport = *transport;
 }
 
 void set_stream_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.stream_heartbeat = parse_ms(v, 10, 3600000, origin, "StreamHeartbeatMs");
+  c.agent.stream_heartbeat = parse_ms(v, 10, 3600000, origin, "StreamHeartbeatMs");
 }
 
 void set_max_connections(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.max_connections = parse_int<std::size_t>(v, 1, 100000, origin, "MaxConnections");
+  c.server.max_connections = parse_int<std::size_t>(v, 1, 100000, origin, "MaxConnections");
 }
 
 void set_header_timeout(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.header_timeout = parse_ms(v, 100, 3600000, origin, "HeaderTimeoutMs");
+  c.server.header_timeout = parse_ms(v, 100, 3600000, origin, "HeaderTimeoutMs");
 }
 
 void set_idle_timeout(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.idle_timeout = parse_ms(v, 100, 3600000, origin, "IdleTimeoutMs");
+  c.server.idle_timeout = parse_ms(v, 100, 3600000, origin, "IdleTimeoutMs");
 }
 
 void set_write_timeout(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  c.write_timeout = parse_ms(v, 100, 3600000, origin, "WriteTimeoutMs");
+  c.server.write_timeout = parse_ms(v, 100, 3600000, origin, "WriteTimeoutMs");
 }
 
-constexpr std::array<Setting, 19> kSettings{{
+const std::array<Setting, 18> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
-    {"ServerIp", "--server-ip", "address to listen on (default 127.0.0.1)", set_server_ip},
-    {"Port", "--port", "HTTP port, 0 = any free port (default 5000)", set_port},
-    {"BufferSize", "--buffer-size", "observation buffer holds 2^n entries (default 17)",
-     set_buffer_size},
+    {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
+     [](const BridgeConfig& c) { return c.server.bind_address; }},
+    {"Port", "--port", "HTTP port, 0 = any free port", set_port,
+     [](const BridgeConfig& c) { return std::to_string(c.server.port); }},
+    {"BufferSize", "--buffer-size", "observation buffer holds 2^n entries", set_buffer_size,
+     [](const BridgeConfig& c) { return std::to_string(buffer_exponent(c.agent.buffer_size)); }},
     {"SchemaVersion", "--schema-version",
      "1.3, 1.6, 1.8 or 2.0 (default: the Devices file's, else 1.6)", set_schema_version},
-    {"Sender", "--sender", "Header sender name (default mtc-bridge)", set_sender},
-    {"DomainIds", "--domain-ids", "DDS domain ids to observe, e.g. 0,1 (default 0)",
-     set_domain_ids},
-    {"QosProfile", "--qos-profile", "mtc::qos preset of the state topics (default: the default)",
-     set_qos_profile},
+    {"Sender", "--sender", "Header sender name", set_sender,
+     [](const BridgeConfig& c) { return c.agent.sender; }},
+    {"DomainIds", "--domain-ids", "DDS domain ids to observe, e.g. 0,1", set_domain_ids,
+     [](const BridgeConfig& c) {
+       std::string ids;
+       for (const int id : c.domain_ids) {
+         ids += (ids.empty() ? "" : ",") + std::to_string(id);
+       }
+       return ids;
+     }},
     {"DeviceFilter", "--device-filter", "only these device uuids (default: all)",
      set_device_filter},
-    {"IoThreads", "--io-threads", "HTTP io threads (default 1)", set_io_threads},
+    {"IoThreads", "--io-threads", "HTTP io threads", set_io_threads,
+     [](const BridgeConfig& c) { return std::to_string(c.server.io_threads); }},
     {"WorkerThreads", "", "cppagent's name for IoThreads", set_io_threads},
-    {"HeartbeatMs", "--heartbeat-ms", "DDS heartbeat period of the devices (default 100)",
-     set_heartbeat},
+    {"HeartbeatMs", "--heartbeat-ms", "DDS heartbeat period of the devices", set_heartbeat,
+     [](const BridgeConfig& c) { return show_ms(c.observer.timing.heartbeat); }},
     {"MissedHeartbeats", "--missed-heartbeats",
-     "heartbeats missed before a device's items read UNAVAILABLE (default 3)",
-     set_missed_heartbeats},
-    {"Transport", "--transport",
-     "DDS transport: loopback, loopback-udp or network (default loopback)", set_transport},
+     "heartbeats missed before a device's items read UNAVAILABLE", set_missed_heartbeats,
+     [](const BridgeConfig& c) { return std::to_string(c.observer.timing.missed_heartbeats); }},
+    {"Transport", "--transport", "DDS transport: loopback, loopback-udp, test or network",
+     set_transport,
+     [](const BridgeConfig& c) { return std::string(qos::to_string(c.observer.transport)); }},
     {"StreamHeartbeatMs", "--stream-heartbeat-ms",
-     "HTTP stream heartbeat when a request names none (default 10000)", set_stream_heartbeat},
-    {"MaxConnections", "--max-connections", "open connections; more get 503 (default 256)",
-     set_max_connections},
-    {"HeaderTimeoutMs", "--header-timeout-ms", "time to send a request header (default 10000)",
-     set_header_timeout},
-    {"IdleTimeoutMs", "--idle-timeout-ms", "keep-alive idle time before closing (default 30000)",
-     set_idle_timeout},
-    {"WriteTimeoutMs", "--write-timeout-ms",
-     "time a client may take to read a write (default 30000)", set_write_timeout},
+     "HTTP stream heartbeat when a request names none", set_stream_heartbeat,
+     [](const BridgeConfig& c) { return show_ms(c.agent.stream_heartbeat); }},
+    {"MaxConnections", "--max-connections", "open connections; more get 503", set_max_connections,
+     [](const BridgeConfig& c) { return std::to_string(c.server.max_connections); }},
+    {"HeaderTimeoutMs", "--header-timeout-ms", "time to send a request header", set_header_timeout,
+     [](const BridgeConfig& c) { return show_ms(c.server.header_timeout); }},
+    {"IdleTimeoutMs", "--idle-timeout-ms", "keep-alive idle time before closing", set_idle_timeout,
+     [](const BridgeConfig& c) { return show_ms(c.server.idle_timeout); }},
+    {"WriteTimeoutMs", "--write-timeout-ms", "time a client may take to read a write",
+     set_write_timeout, [](const BridgeConfig& c) { return show_ms(c.server.write_timeout); }},
 }};
 
 const Setting* find_key(std::string_view key) {
@@ -394,13 +418,18 @@ std::string usage_text(std::string_view program) {
       << "Serves MTConnect probe/current/sample (HTTP, XML) for the MTConnect Part 5\n"
       << "interfaces published on DDS. Options override the config file; each one\n"
       << "matches a `Key = Value` line of the file.\n\n";
+  const BridgeConfig defaults;
   for (const auto& setting : kSettings) {
     if (setting.flag.empty()) {
       continue;
     }
     std::string left = "  " + std::string(setting.flag) + " VALUE";
     left.resize(std::max<std::size_t>(left.size() + 1, 32), ' ');
-    out << left << std::string(setting.key) << ": " << setting.help << "\n";
+    out << left << std::string(setting.key) << ": " << setting.help;
+    if (setting.show != nullptr) {
+      out << " (default " << setting.show(defaults) << ")";
+    }
+    out << "\n";
   }
   out << "  --config FILE                 agent.cfg-style file (`Key = Value`, # comments)\n"
       << "  --bind VALUE                  same as --server-ip\n"

@@ -1,8 +1,6 @@
-#include "request.hpp"
+#include "mtc/bridge/request.hpp"
 
-#include <limits>
-
-namespace mtc::bridge::detail {
+namespace mtc::bridge {
 
 namespace {
 
@@ -39,7 +37,7 @@ bool decode(std::string_view in, bool plus_is_space, std::string& out) {
 
 }  // namespace
 
-std::optional<Target> parse_target(std::string_view target, std::string& error) {
+std::optional<RequestTarget> parse_target(std::string_view target, std::string& error) {
   if (target.size() > kMaxTarget) {
     error = "the request target is too long";
     return std::nullopt;
@@ -57,7 +55,7 @@ std::optional<Target> parse_target(std::string_view target, std::string& error) 
     path = target.substr(0, q);
     query = target.substr(q + 1);
   }
-  Target out;
+  RequestTarget out;
   std::string decoded;
   while (!path.empty()) {
     const auto slash = path.find('/');
@@ -88,25 +86,11 @@ std::optional<Target> parse_target(std::string_view target, std::string& error) 
   return out;
 }
 
-IntegerError parse_integer(std::string_view text, std::int64_t& out) noexcept {
-  bool negative = false;
-  if (!text.empty() && text.front() == '-') {
-    negative = true;
-    text.remove_prefix(1);
-  }
-  if (text.empty()) return IntegerError::NotInteger;
-  for (char c : text) {
-    if (c < '0' || c > '9') return IntegerError::NotInteger;
-  }
-  constexpr auto kMax = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
-  std::uint64_t value = 0;
-  for (char c : text) {
-    const auto digit = static_cast<std::uint64_t>(c - '0');
-    if (value > (kMax - digit) / 10) return IntegerError::Overflow;
-    value = value * 10 + digit;
-  }
-  out = negative ? -static_cast<std::int64_t>(value) : static_cast<std::int64_t>(value);
-  return IntegerError::None;
+Request parse_request(std::string_view method, std::string_view target) {
+  Request request;
+  request.method = std::string(method);
+  request.target = parse_target(target, request.target_error);
+  return request;
 }
 
-}  // namespace mtc::bridge::detail
+}  // namespace mtc::bridge

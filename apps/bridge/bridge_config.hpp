@@ -2,40 +2,37 @@
 // (`Key = Value` lines, `#` comments, as MTConnect agents use) overridden by
 // command-line flags. Every key and every flag goes through one validating
 // table, so a bad value reads the same wherever it came from.
+//
+// The configuration holds the options of the parts it configures (agent,
+// HTTP server, DDS observer); their defaults are written there only, and
+// --help prints them from there.
 #pragma once
 
-#include <chrono>
-#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "mtc/bridge/http_server.hpp"
+#include "mtc/bridge/mtconnect_agent.hpp"
+#include "mtc/dds/domain_observer.hpp"
+
 namespace mtc::bridge {
 
 struct BridgeConfig {
-  std::string devices_file;                // Devices: empty = DDS announcements only
-  std::string server_ip = "127.0.0.1";     // ServerIp
-  std::uint16_t port = 5000;               // Port
-  unsigned buffer_size_exponent = 17;      // BufferSize: buffer holds 2^n observations
-  std::string schema_version;              // SchemaVersion: empty = the agent's choice
-  std::string sender = "mtc-bridge";       // Sender: Header@sender
-  std::vector<int> domain_ids{0};          // DomainIds
-  std::string qos_profile;                 // QosProfile: mtc::qos preset name
-  std::vector<std::string> device_filter;  // DeviceFilter: uuids; empty = all
-  unsigned io_threads = 1;                 // IoThreads (alias WorkerThreads)
-  // DDS side: the heartbeat period of the observed devices and how many
+  // Devices, BufferSize (2^n observations), SchemaVersion, Sender,
+  // StreamHeartbeatMs.
+  AgentOptions agent;
+  // ServerIp, Port, IoThreads (WorkerThreads), MaxConnections,
+  // HeaderTimeoutMs, IdleTimeoutMs, WriteTimeoutMs.
+  ServerOptions server;
+  // DeviceFilter, Transport, and in `timing` HeartbeatMs and
+  // MissedHeartbeats: the DDS heartbeat of the observed devices and how many
   // may be missed; their product is the liveliness lease the observer asks
-  // for (it must cover the longest lease of any device).
-  std::chrono::milliseconds heartbeat{100};  // HeartbeatMs
-  int missed_heartbeats = 3;                 // MissedHeartbeats
-  std::string transport = "loopback";        // Transport: loopback | loopback-udp | network
-  // HTTP side: heartbeat of a stream whose request names none.
-  std::chrono::milliseconds stream_heartbeat{10000};  // StreamHeartbeatMs
-  std::size_t max_connections = 256;                  // MaxConnections
-  std::chrono::milliseconds header_timeout{10000};    // HeaderTimeoutMs
-  std::chrono::milliseconds idle_timeout{30000};      // IdleTimeoutMs
-  std::chrono::milliseconds write_timeout{30000};     // WriteTimeoutMs
+  // for (it must cover the longest lease of any device). domain_id is set
+  // per entry of domain_ids.
+  dds::DomainObserverOptions observer;
+  std::vector<int> domain_ids{0};  // DomainIds
 };
 
 // A configuration mistake: `what()` names the origin ("agent.cfg:7" or

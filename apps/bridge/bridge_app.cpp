@@ -1,0 +1,71 @@
+#include "bridge_app.hpp"
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <sstream>
+
+namespace mtc::bridge {
+
+BridgeApp::BridgeApp(const BridgeConfig& config)
+    : config_(config), agent_(make_agent(config.agent)) {
+  server_ = std::make_unique<HttpServer>(agent_, config_.server);
+  observe_domains();
+}
+
+BridgeApp::~BridgeApp() {
+  observers_.clear();  // no more intake before the server goes
+  if (server_) {
+    server_->stop();
+  }
+}
+
+void BridgeApp::observe_domains() {
+  for (const int domain : config_.domain_ids) {
+    dds::DomainObserverOptions options = config_.observer;
+    options.domain_id = domain;
+    // Callbacks run on the observer's dispatch thread; the agent's ingest
+    // is thread-safe and takes its lock only for the append.
+    MtconnectAgent* agent = agent_.get();
+    dds::DomainObserverCallbacks callbacks;
+    callbacks.on_device = [agent](const dds::ObservedDevice& device) { agent->add_device(device); };
+    callbacks.on_value = [agent](const dds::ObservedValue& value) { agent->add_value(value); };
+    callbacks.on_items_lost = [agent](const std::string& uuid,
+                                      const std::vector<std::string>& items) {
+      agent->items_lost(uuid, items);
+    };
+    callbacks.on_device_lost = [agent](const std::string& uuid) { agent->device_lost(uuid); };
+    observers_.push_back(std::make_unique<dds::DomainObserver>(options, std::move(callbacks)));
+  }
+}
+
+void BridgeApp::run(std::ostream& log) {
+  boost::asio::io_context signals_context(1);
+  boost::asio::signal_set signals(signals_context, SIGINT, SIGTERM);
+  int received = 0;
+  signals.async_wait([&](const boost::system::error_code& ec, int signal) {
+    if (!ec) {
+      received = signal;
+    }
+  });
+  server_->start();
+
+  std::ostringstream domains;
+  for (std::size_t i = 0; i < config_.domain_ids.size(); ++i) {
+    domains << (i == 0 ? "" : ",") << config_.domain_ids[i];
+  }
+  const bool v6 = server_->bind_address().find(':') != std::string::npos;
+  log << "mtc-bridge: serving MTConnect " << to_string(agent_->schema_version()) << " on http://"
+      << (v6 ? "[" : "") << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port()
+      << "/ (DDS domains " << domains.str() << "; devices from "
+      << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
+                                             : config_.agent.devices_file)
+      << ")" << std::endl;
+
+  signals_context.run();  // until a signal arrives
+  log << "mtc-bridge: signal " << received << ", stopping" << std::endl;
+  observers_.clear();
+  server_->stop();
+  log << "mtc-bridge: stopped" << std::endl;
+}
+
+}  // namespace mtc::bridge
