@@ -170,9 +170,10 @@ bool finish_job(Ctx& c, ResponsePort& port, Service s, const std::string& indent
   if (out == Outcome::Completed || c.stop.stopped()) {
     return out == Outcome::Completed;
   }
-  c.say(format("%s%-15s response FAIL after COMPLETE (requester failed or lost before its "
-               "acknowledgement)",
-               indent.c_str(), name(s).c_str()));
+  c.say(
+      format("%s%-15s response FAIL after COMPLETE (requester failed or lost before its "
+             "acknowledgement)",
+             indent.c_str(), name(s).c_str()));
   recover_response(c, s, indent);
   return false;
 }
@@ -182,8 +183,8 @@ bool finish_job(Ctx& c, ResponsePort& port, Service s, const std::string& indent
 void recover_idle(Ctx& c, std::initializer_list<Service> services, const std::string& indent) {
   for (Service s : services) {
     if (c.link.responder(s).failed()) {
-      c.say(format("%s%-15s response FAIL while idle: recovering", indent.c_str(),
-                   name(s).c_str()));
+      c.say(
+          format("%s%-15s response FAIL while idle: recovering", indent.c_str(), name(s).c_str()));
       recover_response(c, s, indent);
     }
   }

@@ -55,11 +55,12 @@ AgentImpl::AgentImpl(const AgentOptions& options)
     : options_(options),
       printer_(options.schema_version.value_or(SchemaVersion::V1_6)),
       buffer_(options.buffer_size) {
-  instance_id_ = options.instance_id != 0
-                     ? options.instance_id
-                     : static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::seconds>(
-                                                      std::chrono::system_clock::now().time_since_epoch())
-                                                      .count());
+  instance_id_ =
+      options.instance_id != 0
+          ? options.instance_id
+          : static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::seconds>(
+                                           std::chrono::system_clock::now().time_since_epoch())
+                                           .count());
   max_count_ = options.max_count == 0 ? options.buffer_size
                                       : std::min(options.max_count, options.buffer_size);
   routes_ = make_routes();
@@ -145,9 +146,15 @@ std::optional<std::size_t> AgentImpl::resolve_value(const core::ObservedValue& v
       if (value.service) hint.type = std::string(core::to_string(*value.service));
       if (value.sub_type) hint.sub_type = std::string(core::to_string(*value.sub_type));
       break;
-    case core::ItemKind::InterfaceState: hint.type = "INTERFACE_STATE"; break;
-    case core::ItemKind::DoorState: hint.type = "DOOR_STATE"; break;
-    case core::ItemKind::ChuckState: hint.type = "CHUCK_STATE"; break;
+    case core::ItemKind::InterfaceState:
+      hint.type = "INTERFACE_STATE";
+      break;
+    case core::ItemKind::DoorState:
+      hint.type = "DOOR_STATE";
+      break;
+    case core::ItemKind::ChuckState:
+      hint.type = "CHUCK_STATE";
+      break;
   }
   for (const core::ObservedDevice& d : announced_) {
     if (d.device_uuid != value.device_uuid) continue;
@@ -164,9 +171,8 @@ void AgentImpl::add_device(const core::ObservedDevice& device) {
   {
     std::unique_lock lock(data_);
     before = buffer_.next_sequence();
-    auto it = std::find_if(announced_.begin(), announced_.end(), [&](const auto& d) {
-      return d.device_uuid == device.device_uuid;
-    });
+    auto it = std::find_if(announced_.begin(), announced_.end(),
+                           [&](const auto& d) { return d.device_uuid == device.device_uuid; });
     const bool changed = it == announced_.end() || !same_device(*it, device);
     if (it == announced_.end()) {
       announced_.push_back(device);
@@ -212,7 +218,7 @@ void AgentImpl::add_value(const core::ObservedValue& value) {
       return;
     }
     const std::uint64_t before = buffer_.next_sequence();
-    const std::int64_t t = value.source_time_ns    ? value.source_time_ns
+    const std::int64_t t = value.source_time_ns      ? value.source_time_ns
                            : value.reception_time_ns ? value.reception_time_ns
                                                      : now_ns();
     const DataItemInfo& info = model_.data_items()[*item];
@@ -283,7 +289,9 @@ AgentStats AgentImpl::stats() const {
   return stats_;
 }
 
-std::uint64_t AgentImpl::next_sequence() const noexcept { return next_sequence_.load(); }
+std::uint64_t AgentImpl::next_sequence() const noexcept {
+  return next_sequence_.load();
+}
 
 bool AgentImpl::wait_for(std::uint64_t from, std::chrono::milliseconds timeout) const {
   std::unique_lock lock(wait_mutex_);

@@ -14,7 +14,9 @@ namespace mtc::bridge::detail {
 
 namespace {
 
-RequestError out_of_range(std::string text) { return {"OUT_OF_RANGE", 400, std::move(text)}; }
+RequestError out_of_range(std::string text) {
+  return {"OUT_OF_RANGE", 400, std::move(text)};
+}
 
 }  // namespace
 
@@ -57,8 +59,8 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
     }
     end = seq;
   } else {
-    for (std::uint64_t seq = upper; seq > lower && entries.size() < static_cast<std::size_t>(-count);
-         --seq) {
+    for (std::uint64_t seq = upper;
+         seq > lower && entries.size() < static_cast<std::size_t>(-count); --seq) {
       if (const Observation* o = selected(seq - 1)) {
         entries.push_back({static_cast<std::size_t>(filter[o->slot]), o});
       }
@@ -84,8 +86,8 @@ Routed AgentImpl::stream(const Query& q, bool is_sample) const {
     std::uint64_t next = 0;
     Response first_part = sample(q, next);  // range checks of from/count
     (void)first_part;
-    plan.next_sequence = static_cast<std::uint64_t>(q.from.value_or(
-        static_cast<std::int64_t>(buffer_.first_sequence())));
+    plan.next_sequence = static_cast<std::uint64_t>(
+        q.from.value_or(static_cast<std::int64_t>(buffer_.first_sequence())));
   } else {
     plan.next_sequence = buffer_.next_sequence();
   }

@@ -13,7 +13,9 @@ namespace {
 
 // Key under which a device's AVAILABILITY item is registered; no DDS data
 // item id can start with a control character.
-const std::string kAvailabilityKey = "\x01" "availability";
+const std::string kAvailabilityKey =
+    "\x01"
+    "availability";
 
 // Makes `text` a valid xs:ID (NCName) that no other element uses.
 class IdMaker {
@@ -107,6 +109,8 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
   return model;
 }
 
-const std::string& availability_key() { return kAvailabilityKey; }
+const std::string& availability_key() {
+  return kAvailabilityKey;
+}
 
 }  // namespace mtc::bridge

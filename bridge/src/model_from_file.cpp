@@ -35,8 +35,8 @@ class FileChecker {
 
   void require(pugi::xml_node node, const char* attribute) const {
     if (std::strlen(node.attribute(attribute).value()) == 0) {
-      fail(node, std::string("<") + node.name() + "> lacks the required attribute '" +
-                     attribute + "'");
+      fail(node,
+           std::string("<") + node.name() + "> lacks the required attribute '" + attribute + "'");
     }
   }
 
@@ -102,7 +102,8 @@ DeviceModel DeviceModel::from_text(std::string_view xml, const std::string& name
   FileChecker check(xml, name);
   pugi::xml_document source;
   const pugi::xml_parse_result parsed = source.load_buffer(xml.data(), xml.size());
-  if (!parsed) check.fail(parsed.offset, std::string("not well-formed XML: ") + parsed.description());
+  if (!parsed)
+    check.fail(parsed.offset, std::string("not well-formed XML: ") + parsed.description());
 
   pugi::xml_node root = source.document_element();
   std::string root_name = root.name();
@@ -116,7 +117,8 @@ DeviceModel DeviceModel::from_text(std::string_view xml, const std::string& name
                          ">, expected <MTConnectDevices>");
   }
   DeviceModel model;
-  const std::string ns_attr = prefix.empty() ? "xmlns" : "xmlns:" + prefix.substr(0, prefix.size() - 1);
+  const std::string ns_attr =
+      prefix.empty() ? "xmlns" : "xmlns:" + prefix.substr(0, prefix.size() - 1);
   const std::string_view urn = root.attribute(ns_attr.c_str()).value();
   if (urn.substr(0, kDevicesUrn.size()) == kDevicesUrn) {
     model.file_version_ = parse_schema_version(urn.substr(kDevicesUrn.size()));

@@ -58,9 +58,8 @@ std::vector<Observation> ObservationBuffer::state_at(std::uint64_t sequence) con
   if (sequence == next_ - 1) return latest_;
   // Nearest checkpoint at or below `sequence`, else the base below the ring.
   const Checkpoint* start = &base_;
-  auto it = std::upper_bound(
-      checkpoints_.begin(), checkpoints_.end(), sequence,
-      [](std::uint64_t s, const Checkpoint& c) { return s < c.sequence; });
+  auto it = std::upper_bound(checkpoints_.begin(), checkpoints_.end(), sequence,
+                             [](std::uint64_t s, const Checkpoint& c) { return s < c.sequence; });
   if (it != checkpoints_.begin()) start = &*std::prev(it);
   std::vector<Observation> state = start->state;
   std::uint64_t from = std::max(start->sequence + 1, first_);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <ctime>
-
 #include <pugixml.hpp>
 
 namespace mtc::bridge {
@@ -117,8 +116,9 @@ void add_component_stream(pugi::xml_node device_stream, const DeviceModel& model
   cs.append_attribute("component") = comp.element.c_str();
   if (!comp.name.empty()) cs.append_attribute("name") = comp.name.c_str();
   cs.append_attribute("componentId") = comp.id.c_str();
-  constexpr std::pair<Category, const char*> kGroups[] = {
-      {Category::Sample, "Samples"}, {Category::Event, "Events"}, {Category::Condition, "Condition"}};
+  constexpr std::pair<Category, const char*> kGroups[] = {{Category::Sample, "Samples"},
+                                                          {Category::Event, "Events"},
+                                                          {Category::Condition, "Condition"}};
   for (const auto& [category, group_name] : kGroups) {
     pugi::xml_node group;
     for (std::size_t i = begin; i < end; ++i) {
@@ -159,9 +159,13 @@ std::string format_time(std::int64_t ns, bool with_micros) {
 
 }  // namespace
 
-std::string format_timestamp(std::int64_t ns) { return format_time(ns, true); }
+std::string format_timestamp(std::int64_t ns) {
+  return format_time(ns, true);
+}
 
-std::string format_creation_time(std::int64_t ns) { return format_time(ns, false); }
+std::string format_creation_time(std::int64_t ns) {
+  return format_time(ns, false);
+}
 
 std::string Printer::probe(const HeaderInfo& h, const DeviceModel& model,
                            std::optional<std::size_t> device, bool pretty) const {

@@ -1,8 +1,7 @@
 #include "domain_tap.hpp"
 
-#include <fastdds/dds/subscriber/SampleInfo.hpp>
-
 #include <cstring>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "mtc/dds/detail/return_code.hpp"
 #include "mtc/dds/detail/topics.hpp"
@@ -22,8 +21,8 @@ ObservedState observed_state(ItemKind kind, IdlValue value) {
   return ObservedState::outside_vocabulary(kind, static_cast<std::int32_t>(value));
 }
 
-ObservedValue base(std::string device, std::string item, std::string iface,
-                   std::uint64_t seq, std::uint64_t hb, std::int64_t t) {
+ObservedValue base(std::string device, std::string item, std::string iface, std::uint64_t seq,
+                   std::uint64_t hb, std::int64_t t) {
   ObservedValue v;
   v.device_uuid = std::move(device);
   v.data_item_id = std::move(item);
@@ -132,8 +131,7 @@ std::string type_name() {
 
 Handle to_handle(const eprosima::fastrtps::rtps::InstanceHandle_t& h) noexcept {
   Handle out{};
-  std::memcpy(out.data(), static_cast<const eprosima::fastrtps::rtps::octet*>(h.value),
-              out.size());
+  std::memcpy(out.data(), static_cast<const eprosima::fastrtps::rtps::octet*>(h.value), out.size());
   return out;
 }
 
@@ -158,12 +156,18 @@ ObservedDevice to_observed(const idl::DeviceDescription& d) {
 
 const char* topic_name(TopicKind kind) noexcept {
   switch (kind) {
-    case TopicKind::Request: return topics::kInteractionRequest;
-    case TopicKind::Response: return topics::kInteractionResponse;
-    case TopicKind::InterfaceState: return topics::kInterfaceState;
-    case TopicKind::DoorState: return topics::kDoorState;
-    case TopicKind::ChuckState: return topics::kChuckState;
-    case TopicKind::DeviceDescription: return topics::kDeviceDescription;
+    case TopicKind::Request:
+      return topics::kInteractionRequest;
+    case TopicKind::Response:
+      return topics::kInteractionResponse;
+    case TopicKind::InterfaceState:
+      return topics::kInterfaceState;
+    case TopicKind::DoorState:
+      return topics::kDoorState;
+    case TopicKind::ChuckState:
+      return topics::kChuckState;
+    case TopicKind::DeviceDescription:
+      return topics::kDeviceDescription;
   }
   return "";
 }
@@ -230,7 +234,8 @@ std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const Ta
       return std::make_unique<TapListener<idl::InteractionSample>>(kind, sink);
     case TopicKind::InterfaceState:
       return std::make_unique<TapListener<idl::InterfaceStateSample>>(kind, sink);
-    case TopicKind::DoorState: return std::make_unique<TapListener<idl::DoorStateSample>>(kind, sink);
+    case TopicKind::DoorState:
+      return std::make_unique<TapListener<idl::DoorStateSample>>(kind, sink);
     case TopicKind::ChuckState:
       return std::make_unique<TapListener<idl::ChuckStateSample>>(kind, sink);
     case TopicKind::DeviceDescription:
@@ -260,9 +265,8 @@ DomainTap::DomainTap(Participant& participant, TopicSet& topics, const TapConfig
     }
     const auto kind = static_cast<TopicKind>(i);
     impl_->listeners[i] = make_listener(kind, impl_->sink);
-    impl_->readers[i] = std::make_unique<Reader>(*impl_->subscriber, topics.get(kind),
-                                                 reader_qos(kind, config),
-                                                 impl_->listeners[i].get());
+    impl_->readers[i] = std::make_unique<Reader>(
+        *impl_->subscriber, topics.get(kind), reader_qos(kind, config), impl_->listeners[i].get());
   }
 }
 

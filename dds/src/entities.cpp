@@ -1,7 +1,6 @@
 #include "mtc/dds/detail/entities.hpp"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-
 #include <iostream>
 
 #include "mtc/dds/detail/return_code.hpp"
@@ -21,8 +20,7 @@ void report(const ReturnCode& code, const char* what) {
 }  // namespace
 
 Participant::Participant(int domain_id, const fdds::DomainParticipantQos& qos) {
-  participant_ =
-      fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+  participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
   if (participant_ == nullptr) {
     throw CreationError("create_participant(domain " + std::to_string(domain_id) + ")");
   }
@@ -50,7 +48,9 @@ Topic::Topic(Participant& participant, const std::string& name, const std::strin
   }
 }
 
-Topic::~Topic() { report(participant_.get().delete_topic(topic_), "delete_topic"); }
+Topic::~Topic() {
+  report(participant_.get().delete_topic(topic_), "delete_topic");
+}
 
 namespace {
 
@@ -74,7 +74,9 @@ Publisher::Publisher(Participant& participant, const std::vector<std::string>& p
   }
 }
 
-Publisher::~Publisher() { report(participant_.get().delete_publisher(publisher_), "delete_publisher"); }
+Publisher::~Publisher() {
+  report(participant_.get().delete_publisher(publisher_), "delete_publisher");
+}
 
 Subscriber::Subscriber(Participant& participant, const std::vector<std::string>& partitions)
     : participant_(participant) {
@@ -103,11 +105,13 @@ WriterBase::~WriterBase() {
   report(publisher_.get().delete_datawriter(writer_), "delete_datawriter");
 }
 
-void WriterBase::assert_liveliness() { check(writer_->assert_liveliness(), "assert_liveliness"); }
+void WriterBase::assert_liveliness() {
+  check(writer_->assert_liveliness(), "assert_liveliness");
+}
 
 void WriterBase::write_untyped(void* sample, const char* what) {
-  check(writer_->write(sample, fdds::HANDLE_NIL), std::string(what) + " on " +
-                                                      writer_->get_topic()->get_name());
+  check(writer_->write(sample, fdds::HANDLE_NIL),
+        std::string(what) + " on " + writer_->get_topic()->get_name());
 }
 
 void WriterBase::dispose_untyped(void* sample, const char* what) {
@@ -124,6 +128,8 @@ Reader::Reader(Subscriber& subscriber, Topic& topic, const fdds::DataReaderQos& 
   }
 }
 
-Reader::~Reader() { report(subscriber_.get().delete_datareader(reader_), "delete_datareader"); }
+Reader::~Reader() {
+  report(subscriber_.get().delete_datareader(reader_), "delete_datareader");
+}
 
 }  // namespace mtc::dds::detail

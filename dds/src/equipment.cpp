@@ -10,21 +10,30 @@ namespace mtc::dds {
 
 std::string_view to_string(Outcome o) noexcept {
   switch (o) {
-    case Outcome::Completed: return "COMPLETED";
-    case Outcome::Failed: return "FAILED";
-    case Outcome::TimedOut: return "TIMED_OUT";
-    case Outcome::CommsLost: return "COMMS_LOST";
-    case Outcome::Rejected: return "REJECTED";
+    case Outcome::Completed:
+      return "COMPLETED";
+    case Outcome::Failed:
+      return "FAILED";
+    case Outcome::TimedOut:
+      return "TIMED_OUT";
+    case Outcome::CommsLost:
+      return "COMMS_LOST";
+    case Outcome::Rejected:
+      return "REJECTED";
   }
   return "?";
 }
 
 std::string_view to_string(LinkState s) noexcept {
   switch (s) {
-    case LinkState::Unpaired: return "UNPAIRED";
-    case LinkState::Paired: return "PAIRED";
-    case LinkState::Up: return "UP";
-    case LinkState::Lost: return "LOST";
+    case LinkState::Unpaired:
+      return "UNPAIRED";
+    case LinkState::Paired:
+      return "PAIRED";
+    case LinkState::Up:
+      return "UP";
+    case LinkState::Lost:
+      return "LOST";
   }
   return "?";
 }
@@ -57,8 +66,12 @@ std::future<R> EquipmentImpl::run(Fn fn) {
 const std::string& ServiceHandle::interface_id() const noexcept {
   return impl_.interfaces[impl_.slots[slot_]->interface_index]->config.id;
 }
-core::Service ServiceHandle::service() const noexcept { return impl_.slots[slot_]->service; }
-core::Role ServiceHandle::role() const noexcept { return impl_.slots[slot_]->role; }
+core::Service ServiceHandle::service() const noexcept {
+  return impl_.slots[slot_]->service;
+}
+core::Role ServiceHandle::role() const noexcept {
+  return impl_.slots[slot_]->role;
+}
 core::InteractionState ServiceHandle::state() const noexcept {
   return impl_.slots[slot_]->snap_state.load();
 }
@@ -78,7 +91,9 @@ std::future<core::StepResult> ServiceHandle::command(core::Event event) {
   });
 }
 
-std::future<core::StepResult> ServiceHandle::fail() { return command(core::Event::Fail); }
+std::future<core::StepResult> ServiceHandle::fail() {
+  return command(core::Event::Fail);
+}
 std::future<core::StepResult> ServiceHandle::recover(core::InteractionState target) {
   return command(target == core::InteractionState::NotReady ? core::Event::RecoverNotReady
                                                             : core::Event::RecoverReady);
@@ -86,8 +101,12 @@ std::future<core::StepResult> ServiceHandle::recover(core::InteractionState targ
 std::future<core::StepResult> ServiceHandle::set_ready(bool ready) {
   return command(ready ? core::Event::SetReady : core::Event::SetNotReady);
 }
-std::future<core::StepResult> Responder::accept() { return command(core::Event::Accept); }
-std::future<core::StepResult> Responder::complete() { return command(core::Event::Complete); }
+std::future<core::StepResult> Responder::accept() {
+  return command(core::Event::Accept);
+}
+std::future<core::StepResult> Responder::complete() {
+  return command(core::Event::Complete);
+}
 
 void Requester::request(RequestOptions options,
                         std::function<void(const RequestResult&)> on_result) {
@@ -128,8 +147,8 @@ Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
     throw ConfigError("Equipment: " + *problem);
   }
   if (options.domain_id < 0 || options.domain_id > qos::kMaxDomainId) {
-    throw ConfigError("Equipment: domain id " + std::to_string(options.domain_id) +
-                      " outside 0.." + std::to_string(qos::kMaxDomainId));
+    throw ConfigError("Equipment: domain id " + std::to_string(options.domain_id) + " outside 0.." +
+                      std::to_string(qos::kMaxDomainId));
   }
   try {
     qos::validate(options.timing);
@@ -141,7 +160,9 @@ Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
   impl_->callbacks = std::move(callbacks);
 }
 
-Equipment::~Equipment() { impl_->shutdown(); }
+Equipment::~Equipment() {
+  impl_->shutdown();
+}
 
 InterfaceSlot& EquipmentImpl::interface_slot(const std::string& id) const {
   for (const auto& itf : interfaces) {
@@ -203,16 +224,16 @@ std::size_t EquipmentImpl::add_slot(const std::string& interface_id, core::Servi
     }
   }
   auto slot = std::make_unique<ServiceSlot>();
-  slot->interface_index = static_cast<std::size_t>(
-      std::find_if(interfaces.begin(), interfaces.end(),
-                   [&](const auto& p) { return p.get() == &itf; }) -
-      interfaces.begin());
+  slot->interface_index =
+      static_cast<std::size_t>(std::find_if(interfaces.begin(), interfaces.end(),
+                                            [&](const auto& p) { return p.get() == &itf; }) -
+                               interfaces.begin());
   slot->service = service;
   slot->role = role;
   slot->options = opts;
   slot->item.id = topics::interaction_item_id(
-      interface_id, service, role == core::Role::Requester ? core::SubType::Request
-                                                           : core::SubType::Response);
+      interface_id, service,
+      role == core::Role::Requester ? core::SubType::Request : core::SubType::Response);
   const auto index = slots.size();
   itf.services.push_back(index);
   slots.push_back(std::move(slot));
@@ -286,9 +307,7 @@ std::future<void> Equipment::set_chuck_state(const std::string& interface_id,
 
 void Equipment::post(std::function<void()> task) {
   auto* impl = impl_.get();
-  impl->run<void>([impl, task = std::move(task)] {
-    impl->guard_callback("posted task", task);
-  });
+  impl->run<void>([impl, task = std::move(task)] { impl->guard_callback("posted task", task); });
 }
 
 Requester* Equipment::requester(const std::string& interface_id,
@@ -324,7 +343,11 @@ std::optional<CounterpartSpec> Equipment::counterpart(const std::string& interfa
   return CounterpartSpec{itf.cp_uuid, itf.cp_interface};
 }
 
-const EquipmentOptions& Equipment::options() const noexcept { return impl_->options; }
-bool Equipment::started() const noexcept { return impl_->started; }
+const EquipmentOptions& Equipment::options() const noexcept {
+  return impl_->options;
+}
+bool Equipment::started() const noexcept {
+  return impl_->started;
+}
 
 }  // namespace mtc::dds

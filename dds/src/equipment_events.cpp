@@ -28,8 +28,7 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
         } else {
           // Once per topic and group: with several timings, a fast group's
           // readers never match a slow group's writers, by design.
-          auto& reported =
-              groups[group]->incompatible_reported[static_cast<std::size_t>(e.topic)];
+          auto& reported = groups[group]->incompatible_reported[static_cast<std::size_t>(e.topic)];
           if (reported) return;
           reported = true;
           diagnostic(std::string("a peer's writer on ") + detail::topic_name(e.topic) +
@@ -124,8 +123,8 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     const auto& spec = itf->config.counterpart;
     if (itf->link.load() == LinkState::Unpaired && spec.device_uuid == v.device_uuid &&
         v.kind() == ItemKind::Interaction && v.service && v.sub_type) {
-      const auto role = *v.sub_type == core::SubType::Request ? core::Role::Responder
-                                                              : core::Role::Requester;
+      const auto role =
+          *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
     }
     if (itf->cp_uuid != v.device_uuid || itf->cp_interface != v.interface_id) continue;
@@ -169,8 +168,8 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
     // We sit in an unacknowledged FAIL and the counterpart shows READY /
     // NOT_READY after a skipped change: it can only have got there through
     // FAIL (e.g. its FAIL was replaced while we were cut off), so replay it.
-    const bool idle_value = *parsed == core::InteractionState::Ready ||
-                            *parsed == core::InteractionState::NotReady;
+    const bool idle_value =
+        *parsed == core::InteractionState::Ready || *parsed == core::InteractionState::NotReady;
     if (missed_change && idle_value && slot.options.counterpart_has_fail &&
         machine->state() == core::InteractionState::Fail && !machine->fail_acknowledged() &&
         machine->counterpart() != core::InteractionState::Fail) {
@@ -208,8 +207,8 @@ bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
 // between the timer and the last reception of the instance that armed it.
 void EquipmentImpl::on_deadline_missed(std::size_t group) {
   const auto& timing = groups[group]->timing;
-  const auto limit = std::chrono::nanoseconds(timing.lease()) -
-                     std::chrono::nanoseconds(timing.heartbeat) / 2;
+  const auto limit =
+      std::chrono::nanoseconds(timing.lease()) - std::chrono::nanoseconds(timing.heartbeat) / 2;
   const auto now = topics::realtime_ns();
   for (auto& itf : interfaces) {
     if (itf->group != group || itf->link.load() != LinkState::Up) continue;

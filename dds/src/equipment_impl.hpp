@@ -140,7 +140,7 @@ struct EquipmentImpl {
     std::string interface_id;
     std::string item;
   };
-  std::map<detail::Handle, std::int64_t> writer_last_ns;  // last reception per writer
+  std::map<detail::Handle, std::int64_t> writer_last_ns;              // last reception per writer
   std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
   std::set<detail::Handle> description_writers;
   std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;

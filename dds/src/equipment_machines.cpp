@@ -74,7 +74,8 @@ void EquipmentImpl::handle_result(ServiceSlot& slot, const core::StepResult& r,
     ev.counterpart = machine->counterpart();
     ev.trigger_source_time_ns = source_ns;
     ev.trigger_receive_time_ns = receive_ns;
-    if (callbacks.on_transition) guard_callback("on_transition", [&] { callbacks.on_transition(ev); });
+    if (callbacks.on_transition)
+      guard_callback("on_transition", [&] { callbacks.on_transition(ev); });
   }
   resolve_pending(slot, r);
   if (slot.role != core::Role::Responder) return;
@@ -105,8 +106,11 @@ void EquipmentImpl::auto_recover(ServiceSlot& slot, SteadyClock::time_point now)
   }
   bool recover = false;
   switch (options.recovery) {
-    case RecoveryPolicy::Manual: break;
-    case RecoveryPolicy::Always: recover = true; break;
+    case RecoveryPolicy::Manual:
+      break;
+    case RecoveryPolicy::Always:
+      recover = true;
+      break;
     case RecoveryPolicy::AfterCommsLoss:
       recover = slot.fail_reason == core::Reason::CommsLost || slot.idle_failure;
       break;

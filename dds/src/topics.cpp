@@ -16,8 +16,7 @@ namespace {
 std::optional<std::string> check_token(std::string_view what, std::string_view text,
                                        bool id_rules) {
   if (text.empty() || text.size() > 64) {
-    return std::string(what) + " must have 1 to 64 characters, got " +
-           std::to_string(text.size());
+    return std::string(what) + " must have 1 to 64 characters, got " + std::to_string(text.size());
   }
   for (char c : text) {
     const bool ok = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' ||

@@ -28,19 +28,26 @@ const char* name(fdds::ReliabilityQosPolicyKind k) {
 
 const char* name(fdds::DurabilityQosPolicyKind k) {
   switch (k) {
-    case fdds::VOLATILE_DURABILITY_QOS: return "VOLATILE";
-    case fdds::TRANSIENT_LOCAL_DURABILITY_QOS: return "TRANSIENT_LOCAL";
-    case fdds::TRANSIENT_DURABILITY_QOS: return "TRANSIENT";
-    case fdds::PERSISTENT_DURABILITY_QOS: return "PERSISTENT";
+    case fdds::VOLATILE_DURABILITY_QOS:
+      return "VOLATILE";
+    case fdds::TRANSIENT_LOCAL_DURABILITY_QOS:
+      return "TRANSIENT_LOCAL";
+    case fdds::TRANSIENT_DURABILITY_QOS:
+      return "TRANSIENT";
+    case fdds::PERSISTENT_DURABILITY_QOS:
+      return "PERSISTENT";
   }
   return "?";
 }
 
 const char* name(fdds::LivelinessQosPolicyKind k) {
   switch (k) {
-    case fdds::AUTOMATIC_LIVELINESS_QOS: return "AUTOMATIC";
-    case fdds::MANUAL_BY_PARTICIPANT_LIVELINESS_QOS: return "MANUAL_BY_PARTICIPANT";
-    case fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS: return "MANUAL_BY_TOPIC";
+    case fdds::AUTOMATIC_LIVELINESS_QOS:
+      return "AUTOMATIC";
+    case fdds::MANUAL_BY_PARTICIPANT_LIVELINESS_QOS:
+      return "MANUAL_BY_PARTICIPANT";
+    case fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS:
+      return "MANUAL_BY_TOPIC";
   }
   return "?";
 }
@@ -52,9 +59,12 @@ const char* name(fdds::OwnershipQosPolicyKind k) {
 // Orders the liveliness kinds by strength (the enum values are not ordered).
 int strength(fdds::LivelinessQosPolicyKind k) {
   switch (k) {
-    case fdds::AUTOMATIC_LIVELINESS_QOS: return 0;
-    case fdds::MANUAL_BY_PARTICIPANT_LIVELINESS_QOS: return 1;
-    case fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS: return 2;
+    case fdds::AUTOMATIC_LIVELINESS_QOS:
+      return 0;
+    case fdds::MANUAL_BY_PARTICIPANT_LIVELINESS_QOS:
+      return 1;
+    case fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS:
+      return 2;
   }
   return 0;
 }
@@ -99,9 +109,9 @@ void check_policies(const fdds::DataWriterQos& w, const fdds::DataReaderQos& r,
                       " but writer offers the weaker " + name(w.liveliness().kind));
   }
   if (w.liveliness().lease_duration > r.liveliness().lease_duration) {
-    reasons.push_back("liveliness: writer's lease of " +
-                      describe(w.liveliness().lease_duration) + " is longer than the " +
-                      describe(r.liveliness().lease_duration) + " the reader requests");
+    reasons.push_back("liveliness: writer's lease of " + describe(w.liveliness().lease_duration) +
+                      " is longer than the " + describe(r.liveliness().lease_duration) +
+                      " the reader requests");
   }
   if (w.ownership().kind != r.ownership().kind) {
     reasons.push_back(std::string("ownership: writer is ") + name(w.ownership().kind) +

@@ -112,11 +112,15 @@ void apply_common(const EndpointQos& e, Qos& q) {
     q.deadline().period = to_duration(*e.deadline());
   }
   switch (e.liveliness_kind()) {
-    case Liveliness::Automatic: q.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS; break;
+    case Liveliness::Automatic:
+      q.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
+      break;
     case Liveliness::ManualByParticipant:
       q.liveliness().kind = fdds::MANUAL_BY_PARTICIPANT_LIVELINESS_QOS;
       break;
-    case Liveliness::ManualByTopic: q.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS; break;
+    case Liveliness::ManualByTopic:
+      q.liveliness().kind = fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
+      break;
   }
   if (e.liveliness_lease()) {
     q.liveliness().lease_duration = to_duration(*e.liveliness_lease());
@@ -125,7 +129,7 @@ void apply_common(const EndpointQos& e, Qos& q) {
     q.liveliness().announcement_period = to_duration(*e.liveliness_lease() / 3);
   }
   q.ownership().kind = e.ownership() == Ownership::Exclusive ? fdds::EXCLUSIVE_OWNERSHIP_QOS
-                                                            : fdds::SHARED_OWNERSHIP_QOS;
+                                                             : fdds::SHARED_OWNERSHIP_QOS;
 }
 
 }  // namespace

@@ -1,5 +1,3 @@
-#include "mtc/qos/participant_qos.hpp"
-
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
@@ -8,6 +6,7 @@
 #include <stdexcept>
 
 #include "mtc/qos/endpoint_qos.hpp"
+#include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::qos {
@@ -52,11 +51,11 @@ fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
 
   auto& transport = q.transport();
   switch (config.transport) {
-    case Transport::Network: return q;
+    case Transport::Network:
+      return q;
     case Transport::Loopback:
       transport.use_builtin_transports = false;
-      transport.user_transports.push_back(
-          std::make_shared<frtps::SharedMemTransportDescriptor>());
+      transport.user_transports.push_back(std::make_shared<frtps::SharedMemTransportDescriptor>());
       transport.user_transports.push_back(loopback_udp());
       break;
     case Transport::LoopbackUdp:
@@ -96,10 +95,14 @@ std::optional<Transport> parse_transport(std::string_view text) noexcept {
 
 std::string_view to_string(Transport t) noexcept {
   switch (t) {
-    case Transport::Loopback: return "loopback";
-    case Transport::LoopbackUdp: return "loopback-udp";
-    case Transport::LoopbackTest: return "test";
-    case Transport::Network: return "network";
+    case Transport::Loopback:
+      return "loopback";
+    case Transport::LoopbackUdp:
+      return "loopback-udp";
+    case Transport::LoopbackTest:
+      return "test";
+    case Transport::Network:
+      return "network";
   }
   return "?";
 }

@@ -94,8 +94,8 @@ EndpointQos preset(std::string_view name, const Timing& timing) {
   for (const auto& n : preset_names()) {
     known += (known.empty() ? "" : ", ") + n;
   }
-  throw std::invalid_argument("unknown QoS preset '" + std::string(name) + "' (known: " +
-                              known + ")");
+  throw std::invalid_argument("unknown QoS preset '" + std::string(name) + "' (known: " + known +
+                              ")");
 }
 
 std::vector<std::string> preset_names() {

@@ -4,10 +4,9 @@
 
 #include <cctype>
 #include <cstdint>
+#include <pugixml.hpp>
 #include <string>
 #include <vector>
-
-#include <pugixml.hpp>
 
 #include "mtc/bridge/mtconnect_agent.hpp"
 
@@ -42,10 +41,11 @@ inline core::ObservedDevice mill() {
                 {item("mill.mh.state", "INTERFACE_STATE"),
                  item("mill.material_load.req", "MATERIAL_LOAD", "REQUEST"),
                  item("mill.material_unload.req", "MATERIAL_UNLOAD", "REQUEST")}),
-      interface("mill_door", InterfaceType::Door,
-                {item("mill.door.state", "INTERFACE_STATE"), item("mill.door.door_state", "DOOR_STATE"),
-                 item("mill.open_door.rsp", "OPEN_DOOR", "RESPONSE"),
-                 item("mill.close_door.rsp", "CLOSE_DOOR", "RESPONSE")}),
+      interface(
+          "mill_door", InterfaceType::Door,
+          {item("mill.door.state", "INTERFACE_STATE"), item("mill.door.door_state", "DOOR_STATE"),
+           item("mill.open_door.rsp", "OPEN_DOOR", "RESPONSE"),
+           item("mill.close_door.rsp", "CLOSE_DOOR", "RESPONSE")}),
       interface("mill_chuck", InterfaceType::Chuck,
                 {item("mill.chuck.state", "INTERFACE_STATE"),
                  item("mill.chuck.chuck_state", "CHUCK_STATE"),
@@ -117,8 +117,8 @@ inline core::ObservedDevice cell_machine() {
   d.interfaces = {
       cell_interface("material_handler", InterfaceType::MaterialHandler,
                      {{"material_load", "request"}, {"material_unload", "request"}}),
-      cell_interface("door", InterfaceType::Door, {{"open_door", "response"}, {"close_door", "response"}},
-                     "DOOR_STATE"),
+      cell_interface("door", InterfaceType::Door,
+                     {{"open_door", "response"}, {"close_door", "response"}}, "DOOR_STATE"),
       cell_interface("chuck", InterfaceType::Chuck,
                      {{"open_chuck", "response"}, {"close_chuck", "response"}}, "CHUCK_STATE"),
       cell_interface("bar_feeder", InterfaceType::BarFeeder, {{"material_feed", "request"}})};
@@ -130,11 +130,12 @@ inline core::ObservedDevice cell_robot() {
   core::ObservedDevice d;
   d.device_uuid = "cell-robot";
   d.name = "robot";
-  d.interfaces = {
-      cell_interface("material_handler", InterfaceType::MaterialHandler,
-                     {{"material_load", "response"}, {"material_unload", "response"}}),
-      cell_interface("door", InterfaceType::Door, {{"open_door", "request"}, {"close_door", "request"}}),
-      cell_interface("chuck", InterfaceType::Chuck, {{"open_chuck", "request"}, {"close_chuck", "request"}})};
+  d.interfaces = {cell_interface("material_handler", InterfaceType::MaterialHandler,
+                                 {{"material_load", "response"}, {"material_unload", "response"}}),
+                  cell_interface("door", InterfaceType::Door,
+                                 {{"open_door", "request"}, {"close_door", "request"}}),
+                  cell_interface("chuck", InterfaceType::Chuck,
+                                 {{"open_chuck", "request"}, {"close_chuck", "request"}})};
   return d;
 }
 
@@ -192,7 +193,7 @@ inline AgentOptions cell_options(SchemaVersion v = SchemaVersion::V1_6, std::siz
 
 // Agent with the cell announced over "DDS" (no Devices file).
 inline std::unique_ptr<MtconnectAgent> announced_cell(SchemaVersion v = SchemaVersion::V1_6,
-                                                     std::size_t buffer = 1024) {
+                                                      std::size_t buffer = 1024) {
   auto agent = make_agent(cell_options(v, buffer));
   agent->add_device(mill());
   agent->add_device(robot());

@@ -52,8 +52,9 @@ TEST(Agent, CurrentShowsLatestValuesWithAttributes) {
   agent->add_value(
       value("mill-0001", "mill.material_load.req", core::InteractionState::Active, kT0 + 1500));
   Doc d(get(*agent, "/current").body);
-  const char* load = "//DeviceStream[@name='mill']/ComponentStream[@component='MaterialHandlerInterface']"
-                     "/Events/MaterialLoad";
+  const char* load =
+      "//DeviceStream[@name='mill']/ComponentStream[@component='MaterialHandlerInterface']"
+      "/Events/MaterialLoad";
   ASSERT_EQ(d.count(load), 1u);
   EXPECT_EQ(d.text(load), "ACTIVE");
   EXPECT_EQ(d.text((std::string(load) + "/@subType").c_str()), "REQUEST");
@@ -233,7 +234,8 @@ TEST(Agent, SampleHonoursFromCountAndTo) {
   ASSERT_EQ(d.count("//MaterialLoad"), 4u);
   EXPECT_EQ(d.number("(//MaterialLoad)[1]/@sequence"), start);
   EXPECT_EQ(d.number("//Header/@nextSequence"), start + 4);
-  Doc t(get(*agent, "/sample?from=" + std::to_string(start) + "&to=" + std::to_string(start + 2)).body);
+  Doc t(get(*agent, "/sample?from=" + std::to_string(start) + "&to=" + std::to_string(start + 2))
+            .body);
   EXPECT_EQ(t.count("//MaterialLoad"), 2u);
   EXPECT_EQ(t.number("//Header/@nextSequence"), start + 2);
   Doc n(get(*agent, "/sample?count=-3").body);
@@ -258,7 +260,8 @@ TEST(Agent, SampleAfterWrapAroundStartsAtFirstSequence) {
   EXPECT_EQ(old.status, 400);
   EXPECT_EQ(Doc(old.body).text("//Error/@errorCode"), "OUT_OF_RANGE");
   // /current still has items whose last change fell out of the ring.
-  EXPECT_EQ(Doc(get(*agent, "/current").body).text("//MaterialLoad[@dataItemId='robot.material_load.rsp']"),
+  EXPECT_EQ(Doc(get(*agent, "/current").body)
+                .text("//MaterialLoad[@dataItemId='robot.material_load.rsp']"),
             "UNAVAILABLE");
 }
 
@@ -292,8 +295,9 @@ TEST(Agent, CurrentAtWithPathAfterWrapAround) {
     agent->add_value(value("mill-0001", "mill.open_chuck.rsp", state_at(i), kT0 + i));
     if (i == 90) seq_of_third = agent->next_sequence() - 1;
   }
-  Doc d(get(*agent, "/current?at=" + std::to_string(seq_of_third) +
-                        "&path=//DataItem[@type='OPEN_CHUCK']").body);
+  Doc d(get(*agent,
+            "/current?at=" + std::to_string(seq_of_third) + "&path=//DataItem[@type='OPEN_CHUCK']")
+            .body);
   ASSERT_EQ(d.count("//OpenChuck"), 2u);  // mill's and robot's
   EXPECT_EQ(d.text("//OpenChuck[@dataItemId='mill.open_chuck.rsp']"),
             core::to_string(state_at(90)));

@@ -119,7 +119,8 @@ TEST(AgentStreams, ConcurrentProducersAndReaders) {
   for (int t = 0; t < 3; ++t) {
     readers.emplace_back([&] {
       while (!stop) {
-        for (const char* target : {"/current", "/sample?count=50", "/mill/current?path=//DoorInterface"}) {
+        for (const char* target :
+             {"/current", "/sample?count=50", "/mill/current?path=//DoorInterface"}) {
           const Response r = test::get(*agent, target);
           if (r.status != 200 || !Doc(r.body).ok) ++bad;
         }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+
 #include "bridge_test_util.hpp"
 #include "mtc/bridge/device_model.hpp"
 
@@ -43,13 +44,15 @@ TEST(DeviceModel, ResolvesByTypeWhenIdsDoNotMatch) {
   SlotRegistry slots;
   DeviceModel m = DeviceModel::from_file(devices_file("cell_1.6.xml"), slots);
   // A vendor's own ids: matched by type/subType among the interface items.
-  const auto load = m.resolve_item("cell-robot", "xyz_load_rsp", {"mh", "", "MATERIAL_LOAD", "RESPONSE"});
+  const auto load =
+      m.resolve_item("cell-robot", "xyz_load_rsp", {"mh", "", "MATERIAL_LOAD", "RESPONSE"});
   ASSERT_TRUE(load.has_value());
   EXPECT_EQ(m.data_items()[*load].id, "robot_material_handler_material_load_response");
   // The robot has an INTERFACE_STATE in each of three interfaces: the
   // interface element (or id) decides.
   EXPECT_FALSE(m.resolve_item("cell-robot", "s1", {"", "", "INTERFACE_STATE", ""}).has_value());
-  const auto by_element = m.resolve_item("cell-robot", "s2", {"", "ChuckInterface", "INTERFACE_STATE", ""});
+  const auto by_element =
+      m.resolve_item("cell-robot", "s2", {"", "ChuckInterface", "INTERFACE_STATE", ""});
   ASSERT_TRUE(by_element.has_value());
   EXPECT_EQ(m.data_items()[*by_element].id, "robot_chuck_interface_state");
   const auto by_id = m.resolve_item("cell-robot", "s3", {"door", "", "INTERFACE_STATE", ""});
@@ -73,8 +76,8 @@ TEST(DeviceModel, ElementNamesFollowTheTypes) {
 struct BadFile {
   const char* what;
   const char* xml;
-  std::size_t line;        // expected line (0: do not check)
-  const char* in_reason;   // expected fragment of the reason
+  std::size_t line;       // expected line (0: do not check)
+  const char* in_reason;  // expected fragment of the reason
 };
 
 class MalformedDevices : public ::testing::TestWithParam<BadFile> {};
@@ -95,7 +98,8 @@ TEST_P(MalformedDevices, FailsWithFileLineAndReason) {
   }
 }
 
-constexpr const char* kHead = "<MTConnectDevices xmlns=\"urn:mtconnect.org:MTConnectDevices:1.6\">\n";
+constexpr const char* kHead =
+    "<MTConnectDevices xmlns=\"urn:mtconnect.org:MTConnectDevices:1.6\">\n";
 
 INSTANTIATE_TEST_SUITE_P(
     Table, MalformedDevices,
@@ -108,18 +112,20 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"no Devices", "<MTConnectDevices>\n<Header/>\n</MTConnectDevices>", 1,
                 "no <Devices>"},
         BadFile{"no Device", "<MTConnectDevices><Devices/></MTConnectDevices>", 1, "no <Device>"},
-        BadFile{"device without uuid",
-                "<MTConnectDevices>\n<Devices>\n<Device id='d' name='n'/></Devices></MTConnectDevices>",
-                3, "'uuid'"},
+        BadFile{
+            "device without uuid",
+            "<MTConnectDevices>\n<Devices>\n<Device id='d' name='n'/></Devices></MTConnectDevices>",
+            3, "'uuid'"},
         BadFile{"item without id",
                 "<MTConnectDevices><Devices><Device id='d' name='n' uuid='u'>\n<DataItems>\n"
                 "<DataItem type='AVAILABILITY' category='EVENT'/></DataItems></Device></Devices>"
                 "</MTConnectDevices>",
                 3, "'id'"},
-        BadFile{"item without type",
-                "<MTConnectDevices><Devices><Device id='d' name='n' uuid='u'><DataItems>"
-                "<DataItem id='x' category='EVENT'/></DataItems></Device></Devices></MTConnectDevices>",
-                1, "'type'"},
+        BadFile{
+            "item without type",
+            "<MTConnectDevices><Devices><Device id='d' name='n' uuid='u'><DataItems>"
+            "<DataItem id='x' category='EVENT'/></DataItems></Device></Devices></MTConnectDevices>",
+            1, "'type'"},
         BadFile{"bad category",
                 "<MTConnectDevices><Devices><Device id='d' name='n' uuid='u'><DataItems>"
                 "<DataItem id='x' type='A' category='NOISE'/></DataItems></Device></Devices>"
@@ -214,9 +220,10 @@ TEST(DeviceModel, XPathSelectsItemsAndComponents) {
 
 TEST(DeviceModel, SlotsAreStableAcrossRebuilds) {
   SlotRegistry slots;
-  const DeviceModel a = DeviceModel::from_announcements({test::feeder()}, SchemaVersion::V1_6, slots);
-  const DeviceModel b = DeviceModel::from_announcements({test::mill(), test::feeder()},
-                                                        SchemaVersion::V1_6, slots);
+  const DeviceModel a =
+      DeviceModel::from_announcements({test::feeder()}, SchemaVersion::V1_6, slots);
+  const DeviceModel b =
+      DeviceModel::from_announcements({test::mill(), test::feeder()}, SchemaVersion::V1_6, slots);
   const auto ia = a.find_item("feeder-0001", "feeder.material_feed.rsp");
   const auto ib = b.find_item("feeder-0001", "feeder.material_feed.rsp");
   ASSERT_TRUE(ia && ib);

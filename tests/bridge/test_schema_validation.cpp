@@ -12,7 +12,6 @@
 //   UNAVAILABLE: OPEN is missing (a typo in the official file), so a 1.6
 //   document with an open door fails on exactly that value.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -39,7 +38,8 @@ struct Lint {
 
 Lint xmllint(const std::string& body, const std::string& schema) {
   static int counter = 0;
-  const fs::path dir = fs::temp_directory_path() / ("mtc_bridge_schema_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("mtc_bridge_schema_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path doc = dir / ("doc" + std::to_string(++counter) + ".xml");
   const fs::path out = dir / ("out" + std::to_string(counter) + ".txt");
@@ -126,7 +126,8 @@ TEST_P(SchemaValidation, ErrorsValidate) {
 
 TEST_P(SchemaValidation, OpenDoorValidatesExceptIn16) {
   agent_->add_value(value("mill-0001", "mill.door.door_state", core::DoorState::Open, kT0));
-  const Lint lint = xmllint(test::get(*agent_, "/current").body, schema("MTConnectStreams", GetParam()));
+  const Lint lint =
+      xmllint(test::get(*agent_, "/current").body, schema("MTConnectStreams", GetParam()));
   if (GetParam() != SchemaVersion::V1_6) {
     EXPECT_EQ(lint.exit_code, 0) << lint.output;
     return;
@@ -164,7 +165,8 @@ TEST_P(SchemaValidation, ProbeValidates) {
   core::ObservedDevice bare = test::mill();
   bare.interfaces.clear();
   plain->add_device(bare);
-  const Lint bare_lint = xmllint(test::get(*plain, "/probe").body, schema("MTConnectDevices", GetParam()));
+  const Lint bare_lint =
+      xmllint(test::get(*plain, "/probe").body, schema("MTConnectDevices", GetParam()));
   EXPECT_EQ(bare_lint.exit_code, 0) << bare_lint.output;
 }
 
@@ -207,8 +209,8 @@ namespace {
 
 TEST(SchemaValidationEmpty, StreamsBeforeAnyDeviceValidate) {
   auto agent = make_agent(test::cell_options(SchemaVersion::V1_6));
-  const Lint lint = xmllint(test::get(*agent, "/current").body,
-                            schema("MTConnectStreams", SchemaVersion::V1_6));
+  const Lint lint =
+      xmllint(test::get(*agent, "/current").body, schema("MTConnectStreams", SchemaVersion::V1_6));
   EXPECT_EQ(lint.exit_code, 0) << lint.output;
 }
 

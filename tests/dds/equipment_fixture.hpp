@@ -25,14 +25,18 @@ class Recorder {
  public:
   EquipmentCallbacks callbacks() {
     EquipmentCallbacks cb;
-    cb.on_transition = [this](const TransitionEvent& e) { add([&] { transitions_.push_back(e); }); };
+    cb.on_transition = [this](const TransitionEvent& e) {
+      add([&] { transitions_.push_back(e); });
+    };
     cb.on_link = [this](const LinkEvent& e) { add([&] { links_.push_back(e); }); };
     cb.on_counterpart_value = [this](const ObservedValue&) { add([] {}); };
     cb.on_diagnostic = [this](const std::string& d) { add([&] { diagnostics_.push_back(d); }); };
     return cb;
   }
   // Wakes waiters; for callbacks the test installs itself.
-  void notify() { add([] {}); }
+  void notify() {
+    add([] {});
+  }
 
   template <typename Pred>
   bool wait(Pred pred, std::chrono::milliseconds timeout = kTimeout) {

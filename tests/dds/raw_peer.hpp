@@ -28,11 +28,10 @@ class RawPeer {
       : participant_(domain, qos::participant_qos({})),
         publisher_(participant_, {topics::device_partition(uuid)}) {
     participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
-    topic_ = std::make_unique<Topic>(participant_,
-                                     side == core::SubType::Request ? topics::kInteractionRequest
-                                                                    : topics::kInteractionResponse,
-                                     "mtc::idl::InteractionSample",
-                                     qos::state_topic().topic_qos());
+    topic_ = std::make_unique<Topic>(
+        participant_,
+        side == core::SubType::Request ? topics::kInteractionRequest : topics::kInteractionResponse,
+        "mtc::idl::InteractionSample", qos::state_topic().topic_qos());
     writer_ = std::make_unique<Writer<idl::InteractionSample>>(
         publisher_, *topic_, qos::state_topic().writer_qos(), listener_);
     sample_.device_uuid(uuid);

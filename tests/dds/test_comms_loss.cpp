@@ -28,8 +28,7 @@ EquipmentOptions lossy(int domain, const std::string& uuid,
 }
 
 std::int64_t ms_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() -
-                                                               t)
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t)
       .count();
 }
 
@@ -292,8 +291,8 @@ TEST_F(CommsLoss, PacketLossStillCompletesHandshakesInOrder) {
     auto f = req.request(wait);
     ASSERT_EQ(f.wait_for(kTimeout), std::future_status::ready) << "handshake " << i;
     const auto r = f.get();
-    ASSERT_EQ(r.outcome, Outcome::Completed) << "handshake " << i << ": "
-                                             << core::describe(r.reason);
+    ASSERT_EQ(r.outcome, Outcome::Completed)
+        << "handshake " << i << ": " << core::describe(r.reason);
   }
   // No protocol violation was ever seen by the requester.
   for (const auto& e : cnc_rec.transitions()) {

@@ -31,7 +31,9 @@ struct Recorder {
   mtc::dds::DomainObserverCallbacks callbacks() {
     mtc::dds::DomainObserverCallbacks cb;
     cb.on_value = [this](const mtc::dds::ObservedValue& v) { add([&] { values.push_back(v); }); };
-    cb.on_device = [this](const mtc::dds::ObservedDevice& d) { add([&] { devices.push_back(d); }); };
+    cb.on_device = [this](const mtc::dds::ObservedDevice& d) {
+      add([&] { devices.push_back(d); });
+    };
     cb.on_items_lost = [this](const std::string& d, const std::vector<std::string>& items) {
       add([&] { lost.emplace_back(d, items); });
     };
@@ -63,10 +65,8 @@ class RawDevice {
       : participant_(domain, mtc::qos::participant_qos({})),
         publisher_(participant_, {topics::device_partition(uuid)}),
         uuid_(uuid) {
-    participant_.register_type(
-        mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
-    participant_.register_type(
-        mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
+    participant_.register_type(mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
+    participant_.register_type(mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
     response_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_, topics::kInteractionResponse, "mtc::idl::InteractionSample",
         mtc::qos::state_topic().topic_qos());

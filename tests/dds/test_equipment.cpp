@@ -113,7 +113,8 @@ TEST(Equipment, Scenario1ResponderFailsImmediately) {
   ASSERT_TRUE(cell.cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Fail; }));
   EXPECT_EQ(req.recover().get().current, InteractionState::Ready);
   EXPECT_EQ(resp.recover().get().current, InteractionState::Ready);
-  EXPECT_TRUE(cell.cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Ready; }));
+  EXPECT_TRUE(
+      cell.cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Ready; }));
 }
 
 // Scenario 2: the responder fails while providing the service.
@@ -129,7 +130,8 @@ TEST(Equipment, Scenario2ResponderFailsWhileActive) {
   const auto r = req.request(wait).get();
   EXPECT_EQ(r.outcome, Outcome::Failed);
   EXPECT_EQ(r.reason, Reason::CounterpartFail);
-  ASSERT_TRUE(cell.robot_rec.wait([&] { return resp.counterpart_state() == InteractionState::Fail; }));
+  ASSERT_TRUE(
+      cell.robot_rec.wait([&] { return resp.counterpart_state() == InteractionState::Fail; }));
   EXPECT_EQ(resp.recover(InteractionState::NotReady).get().current, InteractionState::NotReady);
   EXPECT_EQ(req.recover().get().current, InteractionState::Ready);
 }
@@ -155,7 +157,8 @@ TEST(Equipment, Scenario3RequesterFailsDuringService) {
   const auto r = outcome.get();
   EXPECT_EQ(r.outcome, Outcome::Failed);
   EXPECT_EQ(r.reason, Reason::Application);
-  ASSERT_TRUE(cell.robot_rec.wait([&] { return aborted.load() != static_cast<int>(Reason::None); }));
+  ASSERT_TRUE(
+      cell.robot_rec.wait([&] { return aborted.load() != static_cast<int>(Reason::None); }));
   EXPECT_EQ(aborted.load(), static_cast<int>(Reason::CounterpartFail));
   EXPECT_EQ(resp.state(), InteractionState::Fail);
   ASSERT_TRUE(cell.cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Fail; }));
@@ -189,8 +192,8 @@ TEST(Equipment, RequestWaitsForABusyResponderOrIsRejected) {
   not_ready.start_ready = false;
   auto& resp = cell.robot.add_responder("mh1", Service::MaterialChange, cb, not_ready);
   cell.start();
-  ASSERT_TRUE(cell.cnc_rec.wait(
-      [&] { return req.counterpart_state() == InteractionState::NotReady; }));
+  ASSERT_TRUE(
+      cell.cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::NotReady; }));
   const auto rejected = req.request().get();
   EXPECT_EQ(rejected.outcome, Outcome::Rejected);
   EXPECT_EQ(rejected.reason, Reason::CounterpartBusy);

@@ -40,8 +40,7 @@ class SilentItemWriter {
         publisher_(participant_, {topics::device_partition(uuid)}) {
     participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
     topic_ = std::make_unique<Topic>(participant_, topics::kInteractionResponse,
-                                     "mtc::idl::InteractionSample",
-                                     qos::state_topic().topic_qos());
+                                     "mtc::idl::InteractionSample", qos::state_topic().topic_qos());
     writer_ = std::make_unique<Writer<idl::InteractionSample>>(
         publisher_, *topic_, qos::state_topic().writer_qos(), listener_);
     idl::InteractionSample s;

@@ -2,14 +2,13 @@
 // run. Before mtc::idl::type_support, one key reached readers under several
 // instance handles (stale padding hashed into the key), and every stray
 // instance kept an old sample in the writer's history for good.
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
 
 #include <map>
 #include <mutex>
 #include <set>
 #include <string>
-
-#include <fastrtps/xmlparser/XMLProfileManager.h>
 
 #include "equipment_fixture.hpp"
 #include "mtc/dds/detail/entities.hpp"
@@ -95,7 +94,8 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   Equipment cnc(options(kDomain, "c"));
   Equipment robot(options(kDomain, "robot-with-a-longer-uuid"));
   cnc.add_interface({"mh", InterfaceType::MaterialHandler, "", {"robot-with-a-longer-uuid", "mh"}});
-  cnc.add_interface({"door_one", InterfaceType::Door, "", {"robot-with-a-longer-uuid", "door_one"}});
+  cnc.add_interface(
+      {"door_one", InterfaceType::Door, "", {"robot-with-a-longer-uuid", "door_one"}});
   robot.add_interface({"mh", InterfaceType::MaterialHandler, "", {"c", "mh"}});
   robot.add_interface({"door_one", InterfaceType::Door, "", {"c", "door_one"}});
   auto& load = cnc.add_requester("mh", Service::MaterialLoad);
@@ -129,8 +129,8 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   // Six interaction items, each re-published every heartbeat (100 ms).
   ASSERT_TRUE(counter.wait_for(6, 20));
   for (const auto& [key, seen] : counter.items()) {
-    ASSERT_EQ(seen.handles.size(), 1u) << key << " arrived under " << seen.handles.size()
-                                      << " instance handles";
+    ASSERT_EQ(seen.handles.size(), 1u)
+        << key << " arrived under " << seen.handles.size() << " instance handles";
     EXPECT_EQ(*seen.handles.begin(), spec_handle(key)) << key;
   }
 }

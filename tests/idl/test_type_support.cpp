@@ -34,7 +34,8 @@ InstanceHandle_t key_of(eprosima::fastdds::dds::TypeSupport& type, InteractionSa
 void append_cdr_string(std::vector<unsigned char>& out, const std::string& text) {
   while (out.size() % 4 != 0) out.push_back(0);  // alignment padding is zero
   const auto n = static_cast<std::uint32_t>(text.size() + 1);
-  for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<unsigned char>(n >> shift));
+  for (int shift = 24; shift >= 0; shift -= 8)
+    out.push_back(static_cast<unsigned char>(n >> shift));
   out.insert(out.end(), text.begin(), text.end());
   out.push_back(0);
 }

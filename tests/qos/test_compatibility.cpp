@@ -15,12 +15,16 @@ using mtc::qos::ReaderEndpoint;
 using mtc::qos::WriterEndpoint;
 
 WriterEndpoint writer() {
-  return {"mtc/InterfaceState", "mtc::idl::InterfaceStateSample",
-          mtc::qos::state_topic().writer_qos(), {"mtc/dev/robot"}};
+  return {"mtc/InterfaceState",
+          "mtc::idl::InterfaceStateSample",
+          mtc::qos::state_topic().writer_qos(),
+          {"mtc/dev/robot"}};
 }
 ReaderEndpoint reader() {
-  return {"mtc/InterfaceState", "mtc::idl::InterfaceStateSample",
-          mtc::qos::state_topic().reader_qos(), {"mtc/dev/*"}};
+  return {"mtc/InterfaceState",
+          "mtc::idl::InterfaceStateSample",
+          mtc::qos::state_topic().reader_qos(),
+          {"mtc/dev/*"}};
 }
 
 bool mentions(const mtc::qos::Compatibility& c, const std::string& word) {

@@ -1,13 +1,12 @@
 // The code presets hold the documented values, and the XML profiles file
 // (parsed by Fast DDS's own XMLProfileManager) carries the same presets.
-#include <gtest/gtest.h>
-
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/attributes/ParticipantAttributes.h>
 #include <fastrtps/attributes/PublisherAttributes.h>
 #include <fastrtps/attributes/SubscriberAttributes.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
+#include <gtest/gtest.h>
 
 #include <stdexcept>
 
@@ -177,7 +176,8 @@ void expect_loopback_participant(const std::string& profile, bool with_shm) {
     if (auto u = std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(t)) {
       ++udp;
       EXPECT_EQ(u->interfaceWhiteList, std::vector<std::string>{"127.0.0.1"});
-    } else if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t)) {
+    } else if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(
+                   t)) {
       ++shm;
     }
   }

@@ -3,6 +3,7 @@
 // packet loss per participant.
 #include <gtest/gtest.h>
 
+#include <condition_variable>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -13,8 +14,6 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-
-#include <condition_variable>
 #include <mutex>
 #include <thread>
 #include <vector>

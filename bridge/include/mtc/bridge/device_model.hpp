@@ -12,13 +12,12 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <pugixml.hpp>
 #include <string>
 #include <string_view>
 #include <unordered_map>
 #include <utility>
 #include <vector>
-
-#include <pugixml.hpp>
 
 #include "mtc/bridge/model_error.hpp"
 #include "mtc/bridge/schema_version.hpp"
@@ -43,9 +42,9 @@ struct DataItemInfo {
   std::string id;         // XML id, unique in the document
   std::string source_id;  // id of the DDS data item it mirrors
   std::string name;
-  std::string type;       // e.g. MATERIAL_LOAD
-  std::string sub_type;   // REQUEST / RESPONSE / empty
-  std::string element;    // streams element, e.g. MaterialLoad
+  std::string type;      // e.g. MATERIAL_LOAD
+  std::string sub_type;  // REQUEST / RESPONSE / empty
+  std::string element;   // streams element, e.g. MaterialLoad
   Category category = Category::Event;
   std::size_t device = 0;
   std::size_t component = 0;
@@ -84,8 +83,7 @@ class DeviceModel {
   // Parses a Devices file; throws ModelError (file, line, reason).
   static DeviceModel from_file(const std::string& path, SlotRegistry& slots);
   // Parses Devices XML held in memory; `name` is used in error messages.
-  static DeviceModel from_text(std::string_view xml, const std::string& name,
-                               SlotRegistry& slots);
+  static DeviceModel from_text(std::string_view xml, const std::string& name, SlotRegistry& slots);
   // One Device per announcement, in the order given. Interface types the
   // version's Devices schema lacks (1.3: bar feeder, material handler) are
   // left out, with their items.
@@ -126,7 +124,8 @@ class DeviceModel {
   // Devices tree: a DataItem node selects itself, any other element all
   // DataItems beneath it. `device` restricts the result to one device.
   // Throws std::invalid_argument for a malformed expression.
-  std::vector<std::size_t> select(const std::string& xpath, std::optional<std::size_t> device) const;
+  std::vector<std::size_t> select(const std::string& xpath,
+                                  std::optional<std::size_t> device) const;
   // All items of one device or of every device, in model order.
   std::vector<std::size_t> all_items(std::optional<std::size_t> device) const;
 

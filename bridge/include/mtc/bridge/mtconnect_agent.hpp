@@ -64,11 +64,11 @@ struct AgentOptions {
 
 // Ingest counters, for logs and tests.
 struct AgentStats {
-  std::uint64_t observations = 0;       // observations appended
-  std::uint64_t duplicates = 0;         // values equal to the latest (heartbeats)
-  std::uint64_t unknown_values = 0;     // values for items not in the model
-  std::uint64_t model_changes = 0;      // model rebuilds after announcements
-  std::string last_unknown;             // "<device_uuid>/<data_item_id>"
+  std::uint64_t observations = 0;    // observations appended
+  std::uint64_t duplicates = 0;      // values equal to the latest (heartbeats)
+  std::uint64_t unknown_values = 0;  // values for items not in the model
+  std::uint64_t model_changes = 0;   // model rebuilds after announcements
+  std::string last_unknown;          // "<device_uuid>/<data_item_id>"
 };
 
 class MtconnectAgent : public Agent {

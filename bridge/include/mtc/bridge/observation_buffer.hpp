@@ -26,7 +26,7 @@ namespace mtc::bridge {
 struct Observation {
   std::uint64_t sequence = 0;  // 0: "never observed" (in per-item state)
   std::uint32_t slot = 0;
-  std::int64_t time_ns = 0;    // ns since the epoch, UTC
+  std::int64_t time_ns = 0;  // ns since the epoch, UTC
   std::string value;
 };
 
@@ -69,7 +69,7 @@ class ObservationBuffer {
   std::uint64_t next_ = 1;
   std::size_t checkpoint_interval_;
   std::vector<Observation> latest_;
-  Checkpoint base_;                  // state just below first_
+  Checkpoint base_;                     // state just below first_
   std::deque<Checkpoint> checkpoints_;  // ascending, all >= base_.sequence
 };
 

@@ -154,8 +154,8 @@ struct LinkEvent {
   std::string counterpart_interface_id;
   LinkState previous = LinkState::Unpaired;
   LinkState current = LinkState::Unpaired;
-  std::string cause;          // "liveliness lost", "deadline missed", "disposed", ...
-  std::int64_t time_ns = 0;   // CLOCK_REALTIME when the executor handled it
+  std::string cause;         // "liveliness lost", "deadline missed", "disposed", ...
+  std::int64_t time_ns = 0;  // CLOCK_REALTIME when the executor handled it
   // For Lost: time since the last sample from the counterpart (detection time).
   std::chrono::nanoseconds silence{0};
 };

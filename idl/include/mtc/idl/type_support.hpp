@@ -18,14 +18,14 @@
 // gives the same handle, in every thread, and matches other DDS vendors.
 #pragma once
 
-#include <array>
-#include <cstddef>
-#include <stdexcept>
-
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
-#include <fastdds/dds/topic/TypeSupport.hpp>
 #include <fastrtps/utils/md5.h>
+
+#include <array>
+#include <cstddef>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <stdexcept>
 
 namespace mtc::idl {
 

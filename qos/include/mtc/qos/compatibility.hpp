@@ -7,11 +7,10 @@
 // so that `mtc list` and the logs can say what to change.
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <string>
+#include <vector>
 
 namespace mtc::qos {
 

@@ -12,11 +12,10 @@
 
 #include <chrono>
 #include <cstdint>
-#include <optional>
-
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/qos/TopicQos.hpp>
+#include <optional>
 
 namespace mtc::qos {
 

@@ -74,8 +74,7 @@ inline constexpr std::string_view kStateProfile = "mtc.state";
 inline constexpr std::string_view kDeviceDescriptionProfile = "mtc.device_description";
 inline constexpr std::string_view kStateObserverProfile = "mtc.state_observer";
 inline constexpr std::string_view kLoopbackParticipantProfile = "mtc.participant.loopback";
-inline constexpr std::string_view kLoopbackUdpParticipantProfile =
-    "mtc.participant.loopback_udp";
+inline constexpr std::string_view kLoopbackUdpParticipantProfile = "mtc.participant.loopback_udp";
 
 // Looks a preset up by name ("mtc.state", "mtc.device_description",
 // "mtc.state_observer"); throws std::invalid_argument naming the known
