@@ -109,16 +109,26 @@ case "$mode" in
     pid=$!
     timeout 60 grep -m1 -q "cycle 1 complete" <(tail -n +1 -f "$log") ||
       { kill -TERM "$pid"; fail "no cycle completed"; }
-    current="$(curl -sS --max-time 10 "http://127.0.0.1:$port/current")" ||
-      { kill -TERM "$pid"; fail "bridge did not answer /current"; }
+    # The bridge learns each device from its announcement, which may reach it
+    # after the stations' first cycle: poll /current until every device and
+    # item is there (or 30 s pass) instead of judging the first answer.
+    needles=('uuid="cell-machine"' 'uuid="cell-robot"' 'uuid="cell-feeder"'
+             '<MaterialLoad' '<OpenDoor' '<DoorState' '<ChuckState' '<MaterialFeed')
+    has_all() { for n in "${needles[@]}"; do grep -q "$n" <<<"$current" || return 1; done; }
+    current="" deadline=$((SECONDS + 30))
+    until has_all; do
+      [ "$SECONDS" -lt "$deadline" ] || break
+      current="$(curl -sS --max-time 10 "http://127.0.0.1:$port/current")" ||
+        { kill -TERM "$pid"; fail "bridge did not answer /current"; }
+      has_all || sleep 0.2
+    done
     kill -TERM "$pid"
     rc=0
     wait "$pid" || rc=$?
     [ -e "$state/mtc-cell.netns.pid" ] && fail "start.sh left its pid file behind"
     rmdir "$state"
     [ "$rc" = 0 ] || fail "start.sh exit code $rc after SIGTERM"
-    for needle in 'uuid="cell-machine"' 'uuid="cell-robot"' 'uuid="cell-feeder"' \
-                  '<MaterialLoad' '<OpenDoor' '<DoorState' '<ChuckState' '<MaterialFeed'; do
+    for needle in "${needles[@]}"; do
       grep -q "$needle" <<<"$current" || { echo "$current" >>"$log"; fail "/current lacks $needle"; }
     done
     expect "cell stopped \(exit code 0\)" "start.sh reporting a clean stop" ;;
