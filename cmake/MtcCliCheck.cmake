@@ -58,7 +58,8 @@ function(mtc_add_cli_checks)
     ${PROJECT_SOURCE_DIR}/scripts/*.sh ${PROJECT_SOURCE_DIR}/scripts/*.py
     ${PROJECT_SOURCE_DIR}/apps/*.sh ${PROJECT_SOURCE_DIR}/apps/*.py
     ${PROJECT_SOURCE_DIR}/benchmarks/*.sh ${PROJECT_SOURCE_DIR}/benchmarks/*.py
-    ${PROJECT_SOURCE_DIR}/tests/*.sh ${PROJECT_SOURCE_DIR}/tests/*.py)
+    ${PROJECT_SOURCE_DIR}/tests/*.sh ${PROJECT_SOURCE_DIR}/tests/*.py
+    ${PROJECT_SOURCE_DIR}/examples/*.sh ${PROJECT_SOURCE_DIR}/docs/*.py)
   foreach(script IN LISTS scripts)
     add_test(NAME cli.${script} COMMAND ${netns} ${check} ${PROJECT_SOURCE_DIR}/${script})
     list(APPEND cli_tests cli.${script})

@@ -6,7 +6,7 @@
 //   scripts/netns-run.sh build/benchmarks/mtc-bench-bridge-current [options]
 //   (--help lists them with their defaults)
 //
-// Bar (README): >= 20,000 req/s on 2 cores with `wrk -t1 -c8`, p99 < 1 ms.
+// Bar (docs/benchmarks.md): >= 20,000 req/s on 2 cores with `wrk -t1 -c8`, p99 < 1 ms.
 #include <sys/resource.h>
 
 #include <array>

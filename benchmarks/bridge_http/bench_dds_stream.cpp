@@ -10,7 +10,7 @@
 //   scripts/netns-run.sh build/benchmarks/mtc-bench-bridge-dds-stream [--samples N]
 //   (--help lists the options with their defaults)
 //
-// Bar (README): p50 < 200 us, p99 < 2 ms.
+// Bar (docs/benchmarks.md): p50 < 200 us, p99 < 2 ms.
 #include <atomic>
 #include <iostream>
 #include <random>

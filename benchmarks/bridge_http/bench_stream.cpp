@@ -6,7 +6,7 @@
 //   scripts/netns-run.sh build/benchmarks/mtc-bench-bridge-stream [options]
 //   (--help lists them with their defaults)
 //
-// Bar (README): p50 < 200 us, p99 < 2 ms.
+// Bar (docs/benchmarks.md): p50 < 200 us, p99 < 2 ms.
 #include <iostream>
 #include <random>
 #include <thread>

@@ -1,4 +1,4 @@
-// Exit codes of the `mtc` tool, documented in `mtc --help` and the README so
+// Exit codes of the `mtc` tool, documented in `mtc --help` and docs/cli.md so
 // scripts can tell a failed handshake from a timeout or a usage mistake.
 #pragma once
 

@@ -36,7 +36,7 @@ struct AgentOptions {
   // MTConnect schema version of every document. Unset: the version of the
   // Devices file when it names one of 1.3/1.6/1.8/2.0, otherwise 1.6 — the
   // only version whose official Devices, Streams and Error schemas all
-  // accept the four Part 5 interface types (see README, "Bridge").
+  // accept the four Part 5 interface types (docs/bridge.md).
   std::optional<SchemaVersion> schema_version;
   // Observations kept for /sample. Any value >= 2 (not only powers of two).
   std::size_t buffer_size = 131072;
