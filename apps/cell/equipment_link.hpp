@@ -11,7 +11,7 @@
 namespace mtc::cell {
 
 // Throws std::runtime_error (with the runtime's message) when the equipment
-// cannot be created, or when this build has no DDS runtime.
+// cannot be created.
 std::unique_ptr<Link> make_equipment_link(StationId id, const CellOptions& options);
 
 }  // namespace mtc::cell

@@ -1,6 +1,7 @@
 // What a station of the simulated cell needs from the runtime, and nothing
 // more: raise a request and learn how it ended, take a job on and finish or
-// fail it, recover, and publish door/chuck states. The stations (stations.cpp)
+// fail it, recover, and publish door/chuck states. The station scripts
+// (machine_station.cpp, robot_station.cpp, feeder_station.cpp)
 // are written against these few calls only, so the same scripts run over the
 // DDS Equipment runtime (equipment_link.cpp) and over an in-memory link
 // (local_link.cpp, for the fast logic test).

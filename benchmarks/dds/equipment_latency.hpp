@@ -16,7 +16,7 @@ struct EquipmentBenchOptions {
   int handshakes = 300;
 };
 
-// Empty when the runtime is not built into this benchmark.
+// The handshake series of the runtime (mtc::dds), one per transport.
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options);
 
 // The forked responder of the two-process series: runs until SIGTERM.

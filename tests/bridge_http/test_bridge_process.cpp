@@ -7,8 +7,11 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <pugixml.hpp>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "child_process.hpp"
 #include "mtc/dds/equipment.hpp"
@@ -17,17 +20,26 @@
 namespace mtc::bridge::test {
 namespace {
 
+using mtc::test::ChildProcess;
+
 constexpr const char* kBridge = MTC_BRIDGE_EXE;
+
+// mtc-bridge with `args` as a child process.
+std::unique_ptr<ChildProcess> start_bridge(const std::vector<std::string>& args) {
+  std::vector<std::string> argv{kBridge};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return std::make_unique<ChildProcess>(argv);
+}
 
 // Starts mtc-bridge on a free port and waits for its "serving" line.
 class RunningBridge {
  public:
   explicit RunningBridge(std::vector<std::string> args) {
     args.insert(args.end(), {"--port", "0"});
-    process_ = std::make_unique<ChildProcess>(kBridge, args);
-    const auto line = process_->wait_for_line("serving", std::chrono::seconds(20));
+    process_ = start_bridge(args);
+    const auto line = process_->wait_for_line({"serving"}, std::chrono::seconds(20));
     if (!line) {
-      ADD_FAILURE() << "mtc-bridge did not start; stderr: " << process_->err();
+      ADD_FAILURE() << "mtc-bridge did not start; stderr: " << process_->stderr_text();
       return;
     }
     const auto colon = line->rfind(':', line->find("/ ("));
@@ -78,18 +90,18 @@ std::string write_temp(const std::string& name, const std::string& text) {
 }
 
 int exit_code_of(const std::vector<std::string>& args, std::string* err = nullptr) {
-  ChildProcess process(kBridge, args);
-  const auto code = process.wait_exit(std::chrono::seconds(20));
+  const auto process = start_bridge(args);
+  const auto code = process->wait_exit(std::chrono::seconds(20));
   if (err != nullptr) {
-    *err = process.err();
+    *err = process->stderr_text();
   }
   return code.value_or(-1);
 }
 
 TEST(BridgeProcess, HelpExitsZero) {
-  ChildProcess process(kBridge, {"--help"});
-  EXPECT_EQ(process.wait_exit(std::chrono::seconds(10)), 0);
-  EXPECT_NE(process.out().find("--domain-ids"), std::string::npos);
+  const auto process = start_bridge({"--help"});
+  EXPECT_EQ(process->wait_exit(std::chrono::seconds(10)), 0);
+  EXPECT_NE(process->stdout_text().find("--domain-ids"), std::string::npos);
 }
 
 TEST(BridgeProcess, ConfigurationErrorsExitTwoNamingTheProblem) {
@@ -126,10 +138,10 @@ TEST(BridgeProcess, ServesThenStopsCleanlyOnSigterm) {
   ASSERT_TRUE(stream.read_stream_head());
   ASSERT_TRUE(stream.read_part());
 
-  bridge.process().signal(SIGTERM);
+  bridge.process().send_signal(SIGTERM);
   EXPECT_EQ(bridge.process().wait_exit(std::chrono::seconds(10)), 0);
   EXPECT_TRUE(stream.read_stream_end(std::chrono::seconds(2)));
-  EXPECT_NE(bridge.process().out().find("mtc-bridge: stopped"), std::string::npos);
+  EXPECT_NE(bridge.process().stdout_text().find("mtc-bridge: stopped"), std::string::npos);
 }
 
 TEST(BridgeProcess, ServesADevicesFileWithItsSchemaVersion) {
@@ -137,7 +149,7 @@ TEST(BridgeProcess, ServesADevicesFileWithItsSchemaVersion) {
                                                         "/cell_2.0.xml\nDomainIds = 81\n");
   RunningBridge bridge({"--config", cfg});
   ASSERT_NE(bridge.port(), 0);
-  EXPECT_NE(bridge.process().out().find("MTConnect 2.0"), std::string::npos);
+  EXPECT_NE(bridge.process().stdout_text().find("MTConnect 2.0"), std::string::npos);
   const auto probe = bridge.get("/probe");
   ASSERT_TRUE(probe);
   EXPECT_EQ(probe->status, 200);

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "json_field.hpp"
 
 namespace mtc::test {
 

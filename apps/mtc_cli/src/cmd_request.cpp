@@ -1,7 +1,6 @@
 // `mtc request`: act as the requester of one service and run handshakes.
+#include "command_session.hpp"
 #include "commands.hpp"
-#include "equipment_link.hpp"
-#include "exit_codes.hpp"
 #include "request_runner.hpp"
 
 namespace mtc::cli {
@@ -23,27 +22,21 @@ RequestConfig parse_request(const ParsedArgs& args) {
 
 int run_request(const ParsedArgs& args, Context& context) {
   RequestConfig config = parse_request(args);
-  EventQueue events;
-  context.shutdown.set_listener([&events] { events.wake(); });
-  EquipmentLink link(config.equipment, core::Role::Requester, events);
   const auto& eq = config.equipment;
-  if (eq.common.json) {
-    JsonLine line;
-    line.field("event", "started")
-        .field("device", eq.device_uuid)
-        .field("interface", eq.interface_id)
-        .field("service", core::to_string(eq.services.front()))
-        .field("counterpart", eq.counterpart)
-        .field("domain", eq.common.domain);
-    context.out.line(line.str());
-  } else {
-    context.err.line("requesting " + std::string(core::to_string(eq.services.front())) + " from " +
-                     eq.counterpart + " on domain " + std::to_string(eq.common.domain));
-  }
-  RequestRunner runner(std::move(config), context, link, events);
-  const int code = runner.run();
-  context.shutdown.set_listener(nullptr);
-  return code;
+  const std::string service(core::to_string(eq.services.front()));
+  StartNotice notice;
+  notice.json.field("event", "started")
+      .field("device", eq.device_uuid)
+      .field("interface", eq.interface_id)
+      .field("service", service)
+      .field("counterpart", eq.counterpart)
+      .field("domain", eq.common.domain);
+  notice.text = "requesting " + service + " from " + eq.counterpart + " on domain " +
+                std::to_string(eq.common.domain);
+  return run_with_equipment(eq, core::Role::Requester, notice, context,
+                            [&](EquipmentLink& link, EventQueue& events) {
+                              return RequestRunner(std::move(config), context, link, events).run();
+                            });
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 // `mtc respond`: act as the responder of one or more services.
+#include "command_session.hpp"
 #include "commands.hpp"
-#include "equipment_link.hpp"
-#include "exit_codes.hpp"
 #include "respond_runner.hpp"
 
 namespace mtc::cli {
@@ -46,26 +45,19 @@ std::string service_list_json(const std::vector<core::Service>& services) {
 
 int run_respond(const ParsedArgs& args, Context& context) {
   RespondConfig config = parse_respond(args);
-  EventQueue events;
-  context.shutdown.set_listener([&events] { events.wake(); });
-  EquipmentLink link(config.equipment, core::Role::Responder, events);
   const auto& eq = config.equipment;
-  if (eq.common.json) {
-    JsonLine line;
-    line.field("event", "ready")
-        .field("device", eq.device_uuid)
-        .field("interface", eq.interface_id)
-        .raw_field("services", service_list_json(eq.services))
-        .field("domain", eq.common.domain);
-    context.out.line(line.str());
-  } else {
-    context.err.line("responding as " + eq.device_uuid + "/" + eq.interface_id + " on domain " +
-                     std::to_string(eq.common.domain) + " (Ctrl-C to stop)");
-  }
-  RespondRunner runner(std::move(config), context, link, events);
-  const int code = runner.run();
-  context.shutdown.set_listener(nullptr);
-  return code;
+  StartNotice notice;
+  notice.json.field("event", "ready")
+      .field("device", eq.device_uuid)
+      .field("interface", eq.interface_id)
+      .raw_field("services", service_list_json(eq.services))
+      .field("domain", eq.common.domain);
+  notice.text = "responding as " + eq.device_uuid + "/" + eq.interface_id + " on domain " +
+                std::to_string(eq.common.domain) + " (Ctrl-C to stop)";
+  return run_with_equipment(eq, core::Role::Responder, notice, context,
+                            [&](EquipmentLink& link, EventQueue& events) {
+                              return RespondRunner(std::move(config), context, link, events).run();
+                            });
 }
 
 }  // namespace

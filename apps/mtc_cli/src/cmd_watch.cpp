@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "command_session.hpp"
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "mtc/dds/domain_observer.hpp"
@@ -147,12 +148,10 @@ int run_watch(const ParsedArgs& args, Context& context) {
   };
   callbacks.on_device_lost = [&](const std::string& dev) { printer.device_lost(dev); };
   dds::DomainObserver observer(options, std::move(callbacks));
-  if (common.json) {
-    JsonLine line;
-    context.out.line(line.field("event", "watching").field("domain", common.domain).str());
-  } else {
-    context.err.line("watching domain " + std::to_string(common.domain) + " (Ctrl-C to stop)");
-  }
+  StartNotice notice;
+  notice.json.field("event", "watching").field("domain", common.domain);
+  notice.text = "watching domain " + std::to_string(common.domain) + " (Ctrl-C to stop)";
+  announce(context, common.json, notice);
   if (duration) {
     context.shutdown.wait_for(*duration);
   } else {

@@ -2,8 +2,8 @@
 // the failure injection of `mtc respond` / `mtc request`. In each case the
 // first handshake fails as the scenario describes, both sides report it, both
 // recover to READY, and the second handshake completes: nothing is lost.
-// Scenarios 4 and 5 need a peer that breaks the protocol: misbehaving_peer_test.cpp.
-// Scenario 6, loss of communication, is in comms_loss_test.cpp.
+// Scenarios 4 and 5 need a peer that breaks the protocol: test_mtc_misbehaving_peer.cpp.
+// Scenario 6, loss of communication, is in test_mtc_comms_loss.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>

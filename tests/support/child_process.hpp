@@ -1,4 +1,5 @@
-// A child process for cross-process tests: started with fork/exec, its
+// A child process for the tests that run the project's programs (tests/tools:
+// `mtc`; tests/bridge_http: `mtc-bridge`): started with fork/exec, its
 // stdout and stderr captured through pipes, read line by line with poll()
 // against deadlines. Tests synchronise on the lines a child prints and on its
 // exit status, never on sleeps. A child that outlives its ChildProcess is
@@ -42,6 +43,8 @@ class ChildProcess {
 
   // Command line, stdout and stderr: for assertion messages.
   std::string transcript() const;
+  // Everything read so far from stdout (lines joined by '\n') and stderr.
+  std::string stdout_text() const;
   std::string stderr_text() const { return err_text_; }
 
  private:
@@ -64,10 +67,5 @@ class ChildProcess {
   std::optional<int> exit_code_;
   bool verbose_ = false;  // MTC_TEST_VERBOSE set: echo the child's lines to stderr
 };
-
-// Value of a string or number field in one of mtc's JSON lines
-// ({"event":"outcome","result":"COMPLETE",...}); nullopt when absent. Enough for
-// the flat objects mtc prints; not a general JSON parser.
-std::optional<std::string> json_field(const std::string& line, const std::string& key);
 
 }  // namespace mtc::test

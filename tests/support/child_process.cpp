@@ -216,6 +216,14 @@ std::optional<int> ChildProcess::wait_exit(milliseconds timeout) {
   return exit_code_;
 }
 
+std::string ChildProcess::stdout_text() const {
+  std::string text;
+  for (const auto& l : out_lines_) {
+    text += l + "\n";
+  }
+  return text + out_partial_;
+}
+
 std::string ChildProcess::transcript() const {
   std::string text = "$";
   for (const auto& a : argv_) {
@@ -230,27 +238,6 @@ std::string ChildProcess::transcript() const {
   }
   text += "--- stderr ---\n" + err_text_ + err_partial_;
   return text;
-}
-
-std::optional<std::string> json_field(const std::string& line, const std::string& key) {
-  const std::string quoted = "\"" + key + "\":";
-  const auto pos = line.find(quoted);
-  if (pos == std::string::npos) {
-    return std::nullopt;
-  }
-  std::size_t i = pos + quoted.size();
-  if (i < line.size() && line[i] == '"') {
-    std::string value;
-    for (++i; i < line.size() && line[i] != '"'; ++i) {
-      if (line[i] == '\\' && i + 1 < line.size()) {
-        ++i;
-      }
-      value += line[i];
-    }
-    return value;
-  }
-  const auto end = line.find_first_of(",}", i);
-  return line.substr(i, end == std::string::npos ? std::string::npos : end - i);
 }
 
 }  // namespace mtc::test

@@ -5,10 +5,10 @@
 
 #include <set>
 
-#include "child_process.hpp"
 #include "cli_args.hpp"
 #include "equipment_options.hpp"
 #include "fail_injection.hpp"
+#include "json_field.hpp"
 #include "mtc/qos/presets.hpp"
 #include "output.hpp"
 #include "profiles.hpp"
