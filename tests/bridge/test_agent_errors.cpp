@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "../support/param_name.hpp"
 #include "bridge_test_util.hpp"
 
 namespace mtc::bridge {
@@ -16,6 +17,11 @@ struct BadRequest {
   int status;
   const char* code;
 };
+
+// What gtest lists for the parameter (see param_name.hpp).
+void PrintTo(const BadRequest& p, std::ostream* os) {
+  *os << mtc::test::printable(p.target);
+}
 
 class AgentErrors : public ::testing::TestWithParam<BadRequest> {
  protected:
@@ -85,7 +91,10 @@ INSTANTIATE_TEST_SUITE_P(
                       BadRequest{"/current?path=1%2B1", 400, "INVALID_PATH"},
                       BadRequest{"/current?path=", 400, "INVALID_PATH"},
                       BadRequest{"/current?pretty=maybe", 400, "INVALID_REQUEST"},
-                      BadRequest{"/asset/A1", 404, "ASSET_NOT_FOUND"}));
+                      BadRequest{"/asset/A1", 404, "ASSET_NOT_FOUND"}),
+    [](const ::testing::TestParamInfo<BadRequest>& param_info) {
+      return mtc::test::param_name(param_info.index, param_info.param.target);
+    });
 
 TEST(AgentErrorsMisc, DevicePathScopesTheXPath) {
   auto agent = test::announced_cell();

@@ -3,6 +3,7 @@
 
 #include <set>
 
+#include "../support/param_name.hpp"
 #include "bridge_test_util.hpp"
 #include "mtc/bridge/device_model.hpp"
 
@@ -80,6 +81,11 @@ struct BadFile {
   const char* in_reason;  // expected fragment of the reason
 };
 
+// What gtest lists for the parameter (see param_name.hpp).
+void PrintTo(const BadFile& p, std::ostream* os) {
+  *os << mtc::test::printable(p.what);
+}
+
 class MalformedDevices : public ::testing::TestWithParam<BadFile> {};
 
 TEST_P(MalformedDevices, FailsWithFileLineAndReason) {
@@ -143,7 +149,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"component without id",
                 "<MTConnectDevices><Devices><Device id='d' name='n' uuid='u'><Components>\n"
                 "<Controller name='c'/></Components></Device></Devices></MTConnectDevices>",
-                2, "'id'"}));
+                2, "'id'"}),
+    [](const ::testing::TestParamInfo<BadFile>& param_info) {
+      return mtc::test::param_name(param_info.index, param_info.param.what);
+    });
 
 TEST(DeviceModel, MissingFileIsAModelError) {
   SlotRegistry slots;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/param_name.hpp"
 #include "bridge_config.hpp"
 
 namespace mtc::bridge {
@@ -114,6 +115,11 @@ struct Malformed {
   const char* expected;  // substring of the message, including the line
 };
 
+// What gtest lists for the parameter (see param_name.hpp).
+void PrintTo(const Malformed& p, std::ostream* os) {
+  *os << mtc::test::printable(p.text);
+}
+
 class MalformedConfig : public ::testing::TestWithParam<Malformed> {};
 
 TEST_P(MalformedConfig, IsRejectedNamingTheLine) {
@@ -156,7 +162,10 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"HeaderTimeoutMs = 10s", "agent.cfg:1: HeaderTimeoutMs"},
         Malformed{"Adapters {\n  A { Host = x }\n}", "agent.cfg:1: blocks"},
         Malformed{"# ok\nAllowPut = true", "agent.cfg:2: unknown key 'AllowPut'"},
-        Malformed{"Sender = a\x01z", "agent.cfg:1: Sender contains control"}));
+        Malformed{"Sender = a\x01z", "agent.cfg:1: Sender contains control"}),
+    [](const ::testing::TestParamInfo<Malformed>& param_info) {
+      return mtc::test::param_name(param_info.index, param_info.param.text);
+    });
 
 TEST(BridgeConfig, BinaryDataIsRejected) {
   EXPECT_NE(error_of(std::string("Port = 5\0\x7f\n", 10)).find("agent.cfg:1: binary data"),

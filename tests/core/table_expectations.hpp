@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <ostream>
 #include <set>
 #include <string>
 #include <vector>
@@ -43,6 +44,11 @@ struct TableCase {
   Profile profile;
   std::size_t setup_index;
 };
+
+// What gtest lists for the parameter: a stable name, not a byte dump.
+inline void PrintTo(const TableCase& c, std::ostream* os) {
+  *os << (c.profile == Profile::V1_3 ? "V1_3" : "V1_6") << " setup " << c.setup_index;
+}
 
 inline std::vector<TableCase> table_cases(std::size_t setups) {
   std::vector<TableCase> cases;

@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <deque>
+#include <ostream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -357,6 +358,11 @@ struct Family {
   std::uint32_t first_seed;
   int runs;
 };
+
+// What gtest lists for the parameter: a stable name, not a byte dump.
+void PrintTo(const Family& f, std::ostream* os) {
+  *os << f.name;
+}
 
 class Randomized : public ::testing::TestWithParam<Family> {};
 

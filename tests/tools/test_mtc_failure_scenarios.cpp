@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,11 @@ struct Scenario {
   // Transitions that must not appear in the failed handshake.
   std::vector<std::string> absent;
 };
+
+// What gtest lists for the parameter: a stable name, not a byte dump.
+void PrintTo(const Scenario& s, std::ostream* os) {
+  *os << s.name;
+}
 
 bool contains(const std::vector<std::string>& v, const std::string& item) {
   return std::find(v.begin(), v.end(), item) != v.end();
