@@ -23,6 +23,7 @@ enum class Outcome : std::uint8_t {
   Completed,  // COMPLETE seen and acknowledged: both sides back to READY
   Failed,     // both sides went FAIL (any scenario of Part 5 section 5.1)
   TimedOut,   // no end within the wait; the caller treats it as a failure
+  NotNeeded,  // never raised: what it asks for already holds (chuck OPEN for OPEN_CHUCK)
 };
 
 // The requesting side of one service (a REQUEST data item).

@@ -24,11 +24,16 @@ void announce_fault(Station& c, const std::string& indent, const Fault& f) {
 }
 
 Outcome request_service(Station& c, Service s, const char* responder, const std::string& indent,
-                        const std::optional<Fault>& fault, const Abandon& abandon) {
+                        const std::optional<Fault>& fault, const Abandon& abandon,
+                        const Abandon& done) {
   RequestPort& port = c.link.requester(s);
   const auto t0 = Clock::now();
+  const Abandon give_up = [&] { return (abandon && abandon()) || (done && done()); };
   if (!in_slices(
-          c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); }, abandon)) {
+          c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); }, give_up)) {
+    if (!c.stop.stopped() && done && done()) {
+      return Outcome::NotNeeded;  // raise() false: nothing was changed
+    }
     if (!c.stop.stopped() && !(abandon && abandon())) {
       c.say(format("%s%s: could not raise the request (%s not READY: %s)", indent.c_str(),
                    service_name(s).c_str(), responder, port.states().c_str()));
