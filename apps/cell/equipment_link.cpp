@@ -214,6 +214,7 @@ class DdsResponsePort : public ResponsePort {
     return is_idle(r_.state()) ? Outcome::Completed : Outcome::Failed;
   }
   bool failed() override { return r_.state() == InteractionState::Fail; }
+  InteractionState state() override { return r_.state(); }
 
  private:
   dds::Responder& r_;

@@ -232,6 +232,10 @@ class LocalResponsePort : public ResponsePort {
   bool failed() override {
     return bus_.wait(Millis(0), [&] { return w_.resp.state() == InteractionState::Fail; });
   }
+  InteractionState state() override {
+    std::lock_guard<std::mutex> lock(bus_.mutex);
+    return w_.resp.state();
+  }
   bool cancelled() override {
     return bus_.wait(Millis(0), [&] { return w_.resp.state() != InteractionState::Active; });
   }

@@ -66,6 +66,9 @@ class ResponsePort {
   virtual Outcome wait_settled(Millis timeout) = 0;
   // The response is FAIL (e.g. left over from a loss while idle).
   virtual bool failed() = 0;
+  // The response's current value: READY or NOT_READY after a recovery
+  // (NOT_READY when the door/chuck already is where the service moves it).
+  virtual core::InteractionState state() = 0;
 };
 
 // One station's equipment as the scripts see it.

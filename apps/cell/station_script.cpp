@@ -81,7 +81,9 @@ bool recover_request(Station& c, Service s, const std::string& indent) {
 bool recover_response(Station& c, Service s, const std::string& indent) {
   ResponsePort& port = c.link.responder(s);
   if (in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.recover(m); })) {
-    c.say(format("%s%-15s response recovered -> READY", indent.c_str(), service_name(s).c_str()));
+    // NOT_READY, not READY, after a door/chuck job that got there anyway.
+    c.say(format("%s%-15s response recovered -> %s", indent.c_str(), service_name(s).c_str(),
+                 std::string(core::to_string(port.state())).c_str()));
     return true;
   }
   if (!c.stop.stopped()) {

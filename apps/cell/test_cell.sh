@@ -91,6 +91,7 @@ case "$mode" in
       fail "mtc-cell --local exited with $?"
     expect "OPEN_CHUCK: injected failure, scenario 3" "the robot's collision at the chuck"
     expect "OPEN_CHUCK +request withdrawn" "the machine finishing a withdrawn OPEN_CHUCK"
+    expect "OPEN_CHUCK +response recovered -> NOT_READY" "OPEN_CHUCK NOT_READY with the chuck OPEN"
     grep -Eq "could not raise" "$log" && fail "a request waited for a READY that never came"
     expect "cell summary: 1 cycles complete, [0-9]+ handshakes by the machine, 1 failures \\(1 injected, 0 other\\), 1 recovered" \
       "one injected failure, recovered, nothing else failing"
