@@ -5,6 +5,7 @@
 #include "equipment_link.hpp"
 
 #include <condition_variable>
+#include <cstdint>
 #include <future>
 #include <map>
 #include <mutex>
@@ -63,10 +64,18 @@ struct Shared {
   std::set<Service> aborted;
   std::optional<core::DoorState> door;  // as published by the machine
   std::optional<core::ChuckState> chuck;
+  std::uint64_t events = 0;  // bumped by touch(): any runtime event
 
   void touch() {
-    { std::lock_guard<std::mutex> lock(mutex); }
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      ++events;
+    }
     cv.notify_all();
+  }
+  std::uint64_t events_seen() {
+    std::lock_guard<std::mutex> lock(mutex);
+    return events;
   }
   template <class Pred>
   bool wait(Millis timeout, Pred pred) {
@@ -76,11 +85,15 @@ struct Shared {
 };
 
 // FAIL -> READY through the runtime: refused until the counterpart has
-// acknowledged our FAIL, so retry on each change until then. With the
-// AfterCommsLoss policy the runtime may already have cleared it.
+// acknowledged our FAIL, so retry on each runtime event until then. The
+// acknowledgement changes the counterpart's state (or is the fail_ack
+// waiver), not ours: waiting for our own state to change slept through it
+// until the caller's next slice. With the AfterCommsLoss policy the
+// runtime may already have cleared it.
 bool recover_handle(dds::ServiceHandle& h, Shared& shared, Millis timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   for (;;) {
+    const auto seen = shared.events_seen();  // before recover(): no event is lost
     // NOT_READY counts: a responder whose door/chuck precondition forbids
     // the service recovers to NOT_READY (Table 6), which is idle and sound.
     const auto state = h.state();
@@ -98,7 +111,7 @@ bool recover_handle(dds::ServiceHandle& h, Shared& shared, Millis timeout) {
       return false;
     }
     shared.wait(std::chrono::duration_cast<Millis>(deadline - now),
-                [&] { return h.state() != state; });
+                [&] { return shared.events != seen; });
   }
 }
 
@@ -201,6 +214,7 @@ class DdsResponsePort : public ResponsePort {
     return is_idle(r_.state()) ? Outcome::Completed : Outcome::Failed;
   }
   bool failed() override { return r_.state() == InteractionState::Fail; }
+  InteractionState state() override { return r_.state(); }
 
  private:
   dds::Responder& r_;

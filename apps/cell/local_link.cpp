@@ -5,6 +5,7 @@
 #include <mutex>
 #include <vector>
 
+#include "mtc/core/preconditions.hpp"
 #include "mtc/core/requester.hpp"
 #include "mtc/core/responder.hpp"
 
@@ -25,7 +26,10 @@ std::size_t index_of(Service s) {
 
 // Both sides of one service plus what the ports need to know about them.
 struct Wire {
-  Wire(Service s, const core::MachineOptions& o) : req(s, o), resp(s, o) {}
+  // The hook holds responders NOT_READY while their door/chuck service has
+  // nothing to do, as the DDS runtime does (Equipment::set_door_state).
+  Wire(Service s, const core::MachineOptions& o, const core::ServicePreconditions& hook)
+      : req(s, o), resp(s, o, &hook) {}
   core::Requester req;
   core::Responder resp;
   InteractionState req_seen_by_resp = InteractionState::Unavailable;
@@ -37,6 +41,9 @@ struct Wire {
 struct LocalBus::Impl {
   std::mutex mutex;
   std::condition_variable cv;
+  // The machine's door and chuck as its responders see them; CLOSED at
+  // start like the DDS cell's machine (equipment_link.cpp, layout_of).
+  core::DoorChuckPreconditions hook{core::DoorState::Closed, core::ChuckState::Closed};
   std::vector<std::unique_ptr<Wire>> wires;
   std::vector<std::unique_ptr<RequestPort>> request_ports;
   std::vector<std::unique_ptr<ResponsePort>> response_ports;
@@ -80,6 +87,15 @@ struct LocalBus::Impl {
           note(*w, m->on_tick(now));
         }
       }
+      propagate(*w, now);
+    }
+  }
+
+  // A door or chuck moved: responders may go NOT_READY or back to READY.
+  void reevaluate_all() {
+    const auto now = core::Clock::now();
+    for (auto& w : wires) {
+      note(*w, w->resp.reevaluate(now));
       propagate(*w, now);
     }
   }
@@ -216,6 +232,10 @@ class LocalResponsePort : public ResponsePort {
   bool failed() override {
     return bus_.wait(Millis(0), [&] { return w_.resp.state() == InteractionState::Fail; });
   }
+  InteractionState state() override {
+    std::lock_guard<std::mutex> lock(bus_.mutex);
+    return w_.resp.state();
+  }
   bool cancelled() override {
     return bus_.wait(Millis(0), [&] { return w_.resp.state() != InteractionState::Active; });
   }
@@ -225,7 +245,11 @@ class LocalResponsePort : public ResponsePort {
     });
     bus_.command(
         w_, [&](core::TimePoint now) { return w_.resp.recover(InteractionState::Ready, now); });
-    return bus_.wait(timeout, [&] { return w_.resp.state() == InteractionState::Ready; });
+    // NOT_READY counts: the door/chuck may forbid the service (Table 6).
+    return bus_.wait(timeout, [&] {
+      const auto s = w_.resp.state();
+      return s == InteractionState::Ready || s == InteractionState::NotReady;
+    });
   }
 
  private:
@@ -237,7 +261,7 @@ class LocalResponsePort : public ResponsePort {
 
 LocalBus::LocalBus(const core::MachineOptions& options) : impl_(std::make_unique<Impl>()) {
   for (Service s : core::kAllServices) {
-    impl_->wires.push_back(std::make_unique<Wire>(s, options));
+    impl_->wires.push_back(std::make_unique<Wire>(s, options, impl_->hook));
     Wire& w = *impl_->wires.back();
     impl_->request_ports.push_back(std::make_unique<LocalRequestPort>(*impl_, w));
     impl_->response_ports.push_back(std::make_unique<LocalResponsePort>(*impl_, w));
@@ -271,13 +295,23 @@ std::optional<Service> LocalBus::wait_job(std::initializer_list<Service> service
 }
 
 void LocalBus::set_door(core::DoorState state) {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->door = state;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->door = state;
+    impl_->hook.set_door_state(state);
+    impl_->reevaluate_all();
+  }
+  impl_->cv.notify_all();
 }
 
 void LocalBus::set_chuck(core::ChuckState state) {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->chuck = state;
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->chuck = state;
+    impl_->hook.set_chuck_state(state);
+    impl_->reevaluate_all();
+  }
+  impl_->cv.notify_all();
 }
 
 bool LocalBus::holds(Service s) {

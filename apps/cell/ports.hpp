@@ -23,6 +23,7 @@ enum class Outcome : std::uint8_t {
   Completed,  // COMPLETE seen and acknowledged: both sides back to READY
   Failed,     // both sides went FAIL (any scenario of Part 5 section 5.1)
   TimedOut,   // no end within the wait; the caller treats it as a failure
+  NotNeeded,  // never raised: what it asks for already holds (chuck OPEN for OPEN_CHUCK)
 };
 
 // The requesting side of one service (a REQUEST data item).
@@ -65,6 +66,9 @@ class ResponsePort {
   virtual Outcome wait_settled(Millis timeout) = 0;
   // The response is FAIL (e.g. left over from a loss while idle).
   virtual bool failed() = 0;
+  // The response's current value: READY or NOT_READY after a recovery
+  // (NOT_READY when the door/chuck already is where the service moves it).
+  virtual core::InteractionState state() = 0;
 };
 
 // One station's equipment as the scripts see it.

@@ -33,21 +33,32 @@ JobEnd robot_job(Station& c, ResponsePort& port, bool load, int cycle) {
         return JobEnd::Stopped;
       }
     }
-    if (c.link.holds(steps[i])) {
-      c.say(format("  %-15s skipped: already done", service_name(steps[i]).c_str()));
+    // Checked again while the request waits for READY: a door/chuck still
+    // moving for a request withdrawn before (scenario 3 at the chuck) gets
+    // there meanwhile, and its responder then stays NOT_READY.
+    const Service step = steps[i];
+    const Abandon done = [&c, step] { return c.link.holds(step); };
+    if (done()) {
+      c.say(format("  %-15s skipped: already done", service_name(step).c_str()));
       continue;
     }
     std::optional<Fault> fault;
-    if (load && steps[i] == Service::OpenChuck &&
+    if (load && step == Service::OpenChuck &&
         c.take_fault(cycle, FaultPoint::RobotCollisionAtChuck)) {
       fault = describe(FaultPoint::RobotCollisionAtChuck, cycle);
     }
     const Abandon aborted = [&port] { return port.cancelled(); };
-    if (request_service(c, steps[i], "machine", "  ", fault, aborted) != Outcome::Completed) {
+    const Outcome out = request_service(c, step, "machine", "  ", fault, aborted, done);
+    if (out == Outcome::NotNeeded) {
+      c.say(format("  %-15s skipped: already done (got there while waiting)",
+                   service_name(step).c_str()));
+      continue;
+    }
+    if (out != Outcome::Completed) {
       if (c.stop.stopped()) {
         return JobEnd::Stopped;
       }
-      recover_request(c, steps[i], "  ");
+      recover_request(c, step, "  ");
       if (port.cancelled()) {
         c.say("  the machine left ACTIVE (or was lost): job aborted");
         return JobEnd::Aborted;

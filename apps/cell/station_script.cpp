@@ -24,11 +24,16 @@ void announce_fault(Station& c, const std::string& indent, const Fault& f) {
 }
 
 Outcome request_service(Station& c, Service s, const char* responder, const std::string& indent,
-                        const std::optional<Fault>& fault, const Abandon& abandon) {
+                        const std::optional<Fault>& fault, const Abandon& abandon,
+                        const Abandon& done) {
   RequestPort& port = c.link.requester(s);
   const auto t0 = Clock::now();
+  const Abandon give_up = [&] { return (abandon && abandon()) || (done && done()); };
   if (!in_slices(
-          c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); }, abandon)) {
+          c, c.options.handshake_timeout, [&](Millis m) { return port.raise(m); }, give_up)) {
+    if (!c.stop.stopped() && done && done()) {
+      return Outcome::NotNeeded;  // raise() false: nothing was changed
+    }
     if (!c.stop.stopped() && !(abandon && abandon())) {
       c.say(format("%s%s: could not raise the request (%s not READY: %s)", indent.c_str(),
                    service_name(s).c_str(), responder, port.states().c_str()));
@@ -76,7 +81,9 @@ bool recover_request(Station& c, Service s, const std::string& indent) {
 bool recover_response(Station& c, Service s, const std::string& indent) {
   ResponsePort& port = c.link.responder(s);
   if (in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.recover(m); })) {
-    c.say(format("%s%-15s response recovered -> READY", indent.c_str(), service_name(s).c_str()));
+    // NOT_READY, not READY, after a door/chuck job that got there anyway.
+    c.say(format("%s%-15s response recovered -> %s", indent.c_str(), service_name(s).c_str(),
+                 std::string(core::to_string(port.state())).c_str()));
     return true;
   }
   if (!c.stop.stopped()) {

@@ -68,8 +68,14 @@ void announce_fault(Station& c, const std::string& indent, const Fault& f);
 
 // Requester side of one handshake, from raising the request to its end,
 // with the requester's own fault (scenario 3 or 4) injected when given.
+// `done` (may be empty) says that what the request asks for already holds.
+// It is checked while waiting for the responder to be READY, because a
+// door/chuck responder never becomes READY then: it is NOT_READY (1.3
+// section 3.3) once the door or chuck got there, e.g. a chuck still opening
+// for a request the robot had withdrawn. Outcome::NotNeeded: not raised.
 Outcome request_service(Station& c, Service s, const char* responder, const std::string& indent,
-                        const std::optional<Fault>& fault, const Abandon& abandon = {});
+                        const std::optional<Fault>& fault, const Abandon& abandon = {},
+                        const Abandon& done = {});
 
 bool recover_request(Station& c, Service s, const std::string& indent);
 bool recover_response(Station& c, Service s, const std::string& indent);

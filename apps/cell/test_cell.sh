@@ -2,6 +2,7 @@
 # CTest driver for the simulated cell (registered in apps/cell/CMakeLists.txt).
 # Usage:
 #   test_cell.sh local  <mtc-cell>                 scripts over the in-memory link
+#   test_cell.sh chuck  <mtc-cell>                 in-memory: OPEN_CHUCK withdrawn mid-motion
 #   test_cell.sh dds    <mtc-cell> <domain>        3 processes over DDS, bounded run
 #   test_cell.sh sigint <mtc-cell> <domain>        Ctrl-C stops every station, exit 0
 #   test_cell.sh start  <build-dir> <domain> <port> scripts/start.sh: bridge serves the cell
@@ -12,7 +13,7 @@ usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' 
 mode="${1:-}"
 case "$mode" in
   -h | --help) usage; exit 0 ;;
-  local) arguments=2 ;;
+  local | chuck) arguments=2 ;;
   dds | sigint) arguments=3 ;;
   start) arguments=4 ;;
   *) echo "test_cell.sh: unknown mode or option '$mode'" >&2; usage >&2; exit 2 ;;
@@ -79,6 +80,22 @@ case "$mode" in
     for scenario in 1 2 3; do
       expect "injected failure, scenario $scenario" "scenario $scenario injected"
     done ;;
+  chuck)
+    # Seed 17, one fault per cycle: cycle 1's fault is the robot's collision
+    # at the chuck (scenario 3), injected half way through the chuck's
+    # motion. The load retry comes back while the chuck is still UNLATCHED;
+    # the chuck then stops OPEN and the machine's OPEN_CHUCK response stays
+    # NOT_READY, so the robot must skip the step instead of waiting for READY
+    # until the machine's load times out (15 s, counted as an 'other' failure).
+    timeout 60 "$2" --local --cycles 1 --fail-every 1 --seed 17 --pace-ms 100 >"$log" 2>&1 ||
+      fail "mtc-cell --local exited with $?"
+    expect "OPEN_CHUCK: injected failure, scenario 3" "the robot's collision at the chuck"
+    expect "OPEN_CHUCK +request withdrawn" "the machine finishing a withdrawn OPEN_CHUCK"
+    expect "OPEN_CHUCK +response recovered -> NOT_READY" "OPEN_CHUCK NOT_READY with the chuck OPEN"
+    grep -Eq "could not raise" "$log" && fail "a request waited for a READY that never came"
+    expect "cell summary: 1 cycles complete, [0-9]+ handshakes by the machine, 1 failures \\(1 injected, 0 other\\), 1 recovered" \
+      "one injected failure, recovered, nothing else failing"
+    expect "OPEN_CHUCK +skipped: already done" "the retried load skipping the opened chuck" ;;
   dds)
     timeout 150 "$2" --cycles 6 --fail-every 2 --seed 7 --pace-ms 10 --domain "$3" >"$log" 2>&1 ||
       fail "mtc-cell exited with $?"
