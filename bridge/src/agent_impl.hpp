@@ -40,11 +40,12 @@ class AgentImpl final : public MtconnectAgent {
   std::uint64_t subscribe(std::function<void()> on_new_data) override;
   void unsubscribe(std::uint64_t id) override;
 
-  void add_device(const core::ObservedDevice& device) override;
-  void add_value(const core::ObservedValue& value) override;
-  void items_lost(const std::string& device_uuid,
-                  const std::vector<std::string>& data_item_ids) override;
-  void device_lost(const std::string& device_uuid) override;
+  // Text from DDS peers is made fit for XML first (make_xml_safe).
+  void add_device(const core::ObservedDevice& announced) override;
+  void add_value(const core::ObservedValue& received) override;
+  void items_lost(const std::string& received_uuid,
+                  const std::vector<std::string>& received_ids) override;
+  void device_lost(const std::string& received_uuid) override;
   AgentStats stats() const override;
   SchemaVersion schema_version() const noexcept override { return printer_.version(); }
   std::uint64_t instance_id() const noexcept override { return instance_id_; }

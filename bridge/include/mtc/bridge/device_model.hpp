@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "mtc/bridge/model_error.hpp"
+#include "mtc/bridge/model_limits.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 
@@ -80,10 +81,15 @@ class DeviceModel {
   DeviceModel(DeviceModel&&) noexcept = default;
   DeviceModel& operator=(DeviceModel&&) noexcept = default;
 
-  // Parses a Devices file; throws ModelError (file, line, reason).
-  static DeviceModel from_file(const std::string& path, SlotRegistry& slots);
+  // Parses a Devices file; throws ModelError (file, line, reason). Refuses
+  // what `limits` excludes, DOCTYPE declarations (no entity can expand),
+  // text that XML forbids (invalid UTF-8, control characters), duplicate
+  // ids, and devices sharing a name or uuid.
+  static DeviceModel from_file(const std::string& path, SlotRegistry& slots,
+                               const ModelLimits& limits = {});
   // Parses Devices XML held in memory; `name` is used in error messages.
-  static DeviceModel from_text(std::string_view xml, const std::string& name, SlotRegistry& slots);
+  static DeviceModel from_text(std::string_view xml, const std::string& name, SlotRegistry& slots,
+                               const ModelLimits& limits = {});
   // One Device per announcement, in the order given. Interface types the
   // version's Devices schema lacks (1.3: bar feeder, material handler) are
   // left out, with their items.
