@@ -1,6 +1,7 @@
 // The mtc-bridge executable as an operator runs it: exit codes, signals,
 // and end to end from a DDS writer to /current.
-// DDS domains: 80 end-to-end, 81 process lifecycle (see CMakeLists.txt).
+// DDS domains: 80 end-to-end, 81 process lifecycle, 82 repeated losses (see
+// CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -259,6 +260,47 @@ TEST(BridgeEndToEnd, TransitionAndLivelinessLossReachCurrent) {
   options.faults.outage->store(true);  // the cable is pulled
   EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "UNAVAILABLE"; },
                          std::chrono::seconds(10)));
+}
+
+// A device frozen (every datagram dropped, as SIGSTOP would) three times:
+// its Availability reads UNAVAILABLE on each loss, not only on the first,
+// and AVAILABLE again each time it comes back.
+TEST(BridgeEndToEnd, AvailabilityFollowsEveryLoss) {
+  RunningBridge bridge({"--domain-ids", "82", "--heartbeat-ms", "100"});
+  ASSERT_NE(bridge.port(), 0);
+  dds::EquipmentOptions options;
+  options.domain_id = 82;
+  options.device_uuid = "frozen-robot";
+  options.transport = qos::Transport::LoopbackTest;
+  options.faults.outage = std::make_shared<std::atomic<bool>>(false);
+  dds::Equipment robot(options);
+  robot.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
+  robot.add_responder("mh1", core::Service::MaterialLoad, dds::ResponderCallbacks{});
+  robot.start();
+
+  // The announced device's AVAILABILITY item (model_from_announcements).
+  const std::string availability = "frozen-robot_avail";
+  const std::string item = "mh1_material_load_response";
+  ASSERT_TRUE(eventually([&] { return bridge.current_value(availability) == "AVAILABLE"; },
+                         std::chrono::seconds(15)))
+      << "'" << bridge.current_value(availability) << "'";
+  for (int freeze = 1; freeze <= 3; ++freeze) {
+    options.faults.outage->store(true);
+    EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "UNAVAILABLE"; },
+                           std::chrono::seconds(10)))
+        << "freeze " << freeze;
+    EXPECT_TRUE(eventually([&] { return bridge.current_value(availability) == "UNAVAILABLE"; },
+                           std::chrono::seconds(10)))
+        << "freeze " << freeze << ": Availability reads '" << bridge.current_value(availability)
+        << "' while " << item << " reads UNAVAILABLE";
+    options.faults.outage->store(false);
+    EXPECT_TRUE(eventually([&] { return bridge.current_value(availability) == "AVAILABLE"; },
+                           std::chrono::seconds(10)))
+        << "thaw " << freeze;
+    EXPECT_TRUE(
+        eventually([&] { return bridge.current_value(item) == "READY"; }, std::chrono::seconds(10)))
+        << "thaw " << freeze;
+  }
 }
 
 }  // namespace
