@@ -73,6 +73,8 @@ class AgentImpl final : public MtconnectAgent {
   Routed handle_assets(const Query& q);
   Routed handle_asset(const Query& q);
   std::vector<std::int32_t> item_filter(const Query& q) const;
+  // model_.select under the path limits, remembered per model generation.
+  std::vector<std::size_t> select(const std::string& path, std::optional<std::size_t> device) const;
   HeaderInfo header() const;
   Response current(const Query& q, const std::string& cache_key);
   Response sample(const Query& q, std::uint64_t& next_out) const;
@@ -109,6 +111,9 @@ class AgentImpl final : public MtconnectAgent {
   };
   mutable std::mutex cache_mutex_;
   std::unordered_map<std::string, CachedDoc> cache_;
+  // "<device>|<path>" -> (generation, selected items).
+  mutable std::unordered_map<std::string, std::pair<std::uint64_t, std::vector<std::size_t>>>
+      selections_;
 
   mutable std::mutex wait_mutex_;
   mutable std::condition_variable wait_cv_;

@@ -21,6 +21,7 @@
 
 #include "mtc/bridge/model_error.hpp"
 #include "mtc/bridge/model_limits.hpp"
+#include "mtc/bridge/path_cost.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 
@@ -129,9 +130,13 @@ class DeviceModel {
   // Data items (indexes, in model order) selected by an XPath over the
   // Devices tree: a DataItem node selects itself, any other element all
   // DataItems beneath it. `device` restricts the result to one device.
-  // Throws std::invalid_argument for a malformed expression.
-  std::vector<std::size_t> select(const std::string& xpath,
-                                  std::optional<std::size_t> device) const;
+  // Throws std::invalid_argument for a malformed expression and for one
+  // that `limits` refuses for this tree (estimate_path_cost), before
+  // evaluating it.
+  std::vector<std::size_t> select(const std::string& xpath, std::optional<std::size_t> device,
+                                  const PathLimits& limits = {}) const;
+  // The Devices tree's shape, for estimate_path_cost.
+  const TreeShape& shape() const noexcept { return shape_; }
   // All items of one device or of every device, in model order.
   std::vector<std::size_t> all_items(std::optional<std::size_t> device) const;
 
@@ -150,6 +155,7 @@ class DeviceModel {
   std::vector<bool> claimed_;  // items resolve_item() already gave away
   // Announcement models: XML id -> DDS item id where they differ.
   std::unordered_map<std::string, std::string> source_of_xml_id_;
+  TreeShape shape_;
 };
 
 // SlotRegistry key (item id) of an announced device's AVAILABILITY item.

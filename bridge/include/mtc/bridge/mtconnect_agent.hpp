@@ -28,6 +28,7 @@
 #include "mtc/bridge/agent.hpp"
 #include "mtc/bridge/model_error.hpp"
 #include "mtc/bridge/model_limits.hpp"
+#include "mtc/bridge/path_cost.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 
@@ -50,6 +51,9 @@ struct AgentOptions {
   std::string devices_file;
   // What the Devices file may demand (size, nesting); see ModelLimits.
   ModelLimits devices_limits;
+  // What a request's `path` XPath may cost (length, nesting, estimated node
+  // visits); a path over them is refused with INVALID_PATH before it runs.
+  PathLimits path_limits;
   // Header sender attribute.
   std::string sender = "mtc-bridge";
   // Header instanceId; 0 = seconds since the epoch at construction, so every
