@@ -61,6 +61,11 @@ struct AgentOptions {
   std::uint64_t instance_id = 0;
   // Largest count a /sample may ask for; 0 = buffer_size.
   std::size_t max_count = 0;
+  // Largest /sample document, in bytes (estimated per observation before
+  // printing). A sample that would be larger stops short: its nextSequence
+  // tells the client where to go on, as for any sample. Bounds the memory
+  // each answer takes (the whole default buffer would print as ~25 MiB).
+  std::size_t max_document_bytes = std::size_t{4} << 20;
   // Observations a /sample returns when the request names no count, as
   // MTConnect agents do (never more than max_count).
   std::size_t default_count = 100;
