@@ -199,7 +199,27 @@ void set_write_timeout(BridgeConfig& c, std::string_view v, const std::string& o
   c.server.write_timeout = parse_ms(v, 100, 3600000, origin, "WriteTimeoutMs");
 }
 
-const std::array<Setting, 18> kSettings{{
+void set_max_per_client(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.server.max_connections_per_client =
+      parse_int<std::size_t>(v, 1, 100000, origin, "MaxConnectionsPerClient");
+}
+
+void set_max_pending(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.server.max_pending_bytes = parse_int<std::size_t>(v, std::size_t{1} << 16, std::size_t{1} << 40,
+                                                      origin, "MaxPendingBytes");
+}
+
+void set_max_document(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.agent.max_document_bytes = parse_int<std::size_t>(v, std::size_t{1} << 12, std::size_t{1} << 31,
+                                                      origin, "MaxDocumentBytes");
+}
+
+void set_path_visits(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.agent.path_limits.max_visits = static_cast<double>(
+      parse_int<std::uint64_t>(v, 1000, std::uint64_t{1} << 40, origin, "PathMaxVisits"));
+}
+
+const std::array<Setting, 22> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -236,9 +256,28 @@ const std::array<Setting, 18> kSettings{{
     {"StreamHeartbeatMs", "--stream-heartbeat-ms",
      "HTTP stream heartbeat when a request names none", set_stream_heartbeat,
      [](const BridgeConfig& c) { return show_ms(c.agent.stream_heartbeat); }},
-    {"MaxConnections", "--max-connections", "open connections; more get 503", set_max_connections,
+    {"MaxConnections", "--max-connections",
+     "open connections; a new one replaces the longest-waiting idle one, else gets 503",
+     set_max_connections,
      [](const BridgeConfig& c) { return std::to_string(c.server.max_connections); }},
-    {"HeaderTimeoutMs", "--header-timeout-ms", "time to send a request header", set_header_timeout,
+    {"MaxConnectionsPerClient", "--max-connections-per-client",
+     "open connections from one client address", set_max_per_client,
+     [](const BridgeConfig& c) { return std::to_string(c.server.max_connections_per_client); }},
+    {"MaxPendingBytes", "--max-pending-bytes",
+     "answer bytes waiting for clients that do not read; a large answer beyond gets 503",
+     set_max_pending,
+     [](const BridgeConfig& c) { return std::to_string(c.server.max_pending_bytes); }},
+    {"MaxDocumentBytes", "--max-document-bytes",
+     "largest /sample document; a larger one stops early (nextSequence goes on)", set_max_document,
+     [](const BridgeConfig& c) { return std::to_string(c.agent.max_document_bytes); }},
+    {"PathMaxVisits", "--path-max-visits",
+     "estimated node visits a path filter may cost; more is refused (INVALID_PATH)",
+     set_path_visits,
+     [](const BridgeConfig& c) {
+       return std::to_string(static_cast<std::uint64_t>(c.agent.path_limits.max_visits));
+     }},
+    {"HeaderTimeoutMs", "--header-timeout-ms",
+     "time to send a request header (the first: from the connection)", set_header_timeout,
      [](const BridgeConfig& c) { return show_ms(c.server.header_timeout); }},
     {"IdleTimeoutMs", "--idle-timeout-ms", "keep-alive idle time before closing", set_idle_timeout,
      [](const BridgeConfig& c) { return show_ms(c.server.idle_timeout); }},

@@ -22,10 +22,11 @@ namespace mtc::bridge {
 
 struct BridgeConfig {
   // Devices, BufferSize (2^n observations), SchemaVersion, Sender,
-  // StreamHeartbeatMs.
+  // StreamHeartbeatMs, MaxDocumentBytes, PathMaxVisits.
   AgentOptions agent;
   // ServerIp, Port, IoThreads (WorkerThreads), MaxConnections,
-  // HeaderTimeoutMs, IdleTimeoutMs, WriteTimeoutMs.
+  // MaxConnectionsPerClient, MaxPendingBytes, HeaderTimeoutMs,
+  // IdleTimeoutMs, WriteTimeoutMs.
   ServerOptions server;
   // DeviceFilter, Transport, and in `timing` HeartbeatMs and
   // MissedHeartbeats: the DDS heartbeat of the observed devices and how many

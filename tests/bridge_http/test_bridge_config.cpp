@@ -90,7 +90,11 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "MaxConnections = 10\n"
       "HeaderTimeoutMs = 2000\n"
       "IdleTimeoutMs = 3000\n"
-      "WriteTimeoutMs = 4000");
+      "WriteTimeoutMs = 4000\n"
+      "MaxConnectionsPerClient = 8\n"
+      "MaxPendingBytes = 1048576\n"
+      "MaxDocumentBytes = 65536\n"
+      "PathMaxVisits = 50000");
   EXPECT_EQ(config.agent.devices_file, "/etc/mtc/Devices.xml");
   EXPECT_EQ(config.server.bind_address, "::1");
   EXPECT_EQ(config.server.port, 5001);
@@ -108,6 +112,10 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
   EXPECT_EQ(config.server.header_timeout, 2000ms);
   EXPECT_EQ(config.server.idle_timeout, 3000ms);
   EXPECT_EQ(config.server.write_timeout, 4000ms);
+  EXPECT_EQ(config.server.max_connections_per_client, 8U);
+  EXPECT_EQ(config.server.max_pending_bytes, 1048576U);
+  EXPECT_EQ(config.agent.max_document_bytes, 65536U);
+  EXPECT_EQ(config.agent.path_limits.max_visits, 50000.0);
 }
 
 struct Malformed {
@@ -163,6 +171,8 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"Transport = udp", "agent.cfg:1: Transport must be loopback"},
         Malformed{"StreamHeartbeatMs = 5", "agent.cfg:1: StreamHeartbeatMs"},
         Malformed{"MaxConnections = 0", "agent.cfg:1: MaxConnections"},
+        Malformed{"MaxPendingBytes = 1000", "agent.cfg:1: MaxPendingBytes must be an integer"},
+        Malformed{"PathMaxVisits = 1e6", "agent.cfg:1: PathMaxVisits must be an integer"},
         Malformed{"HeaderTimeoutMs = 10s", "agent.cfg:1: HeaderTimeoutMs"},
         Malformed{"Agents {\n  A { Host = x }\n}", "agent.cfg:1: unknown block 'Agents'"},
         Malformed{"Port = 1\nAdapters {\n  A { Host = x }\n",
