@@ -3,6 +3,7 @@
 # collects JSON summaries and plots in bench-results/ (gitignored):
 #   core.json            mtc-bench-core (Google Benchmark JSON)
 #   bridge_agent.json    mtc-bench-bridge-agent (Google Benchmark JSON)
+#   bridge_path_cost.json  mtc-bench-bridge-path-cost (one JSON line)
 #   bridge_http.json     benchmarks/bridge_http/run.sh (one JSON object per line)
 #   dds_latency.json     mtc-bench-dds-latency: raw Fast DDS vs transition vs handshake
 #   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
@@ -61,9 +62,20 @@ gbench() {  # gbench <exe> <json-name>
 gbench mtc-bench-core core.json
 gbench mtc-bench-bridge-agent bridge_agent.json
 
+if [ -x "$bin/mtc-bench-bridge-path-cost" ]; then
+  path_args=()
+  [ "$quick" = 1 ] && path_args+=(--random 200)
+  run_one mtc-bench-bridge-path-cost "$bin/mtc-bench-bridge-path-cost" "${path_args[@]}" \
+    >"$out/bridge_path_cost.json"
+else
+  note "mtc-bench-bridge-path-cost not built, skipped"
+fi
+
 if [ -x "$bin/mtc-bench-bridge-current" ] && [ -x "$root/benchmarks/bridge_http/run.sh" ]; then
   note "bridge_http"
-  if [ "$quick" = 1 ]; then export MTC_BENCH_SECONDS=2 MTC_BENCH_SAMPLES=200; fi
+  if [ "$quick" = 1 ]; then
+    export MTC_BENCH_SECONDS=2 MTC_BENCH_SAMPLES=200 MTC_BENCH_ABUSE_SECONDS=1
+  fi
   if "$root/benchmarks/bridge_http/run.sh" "$build" >/dev/null; then
     cp "$bin/bridge_http.json" "$out/bridge_http.json"
   else

@@ -7,8 +7,6 @@
 #include <charconv>
 #include <chrono>
 #include <cstdint>
-#include <fstream>
-#include <map>
 #include <sstream>
 
 #include "mtc/bridge/schema_version.hpp"
@@ -33,15 +31,6 @@ struct Setting {
 
 [[noreturn]] void fail(const std::string& origin, const std::string& message) {
   throw ConfigError(origin + ": " + message);
-}
-
-std::string_view trim(std::string_view text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string_view::npos) {
-    return {};
-  }
-  const auto last = text.find_last_not_of(" \t\r");
-  return text.substr(first, last - first + 1);
 }
 
 template <typename Int>
@@ -81,20 +70,6 @@ std::vector<std::string_view> split_list(std::string_view value) {
   return items;
 }
 
-// Drops a '#' comment; a '#' inside a double-quoted value is kept.
-std::string_view strip_comment(std::string_view line) {
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    if (line[i] == '"') {
-      quoted = !quoted;
-    }
-    if (line[i] == '#' && !quoted) {
-      return line.substr(0, i);
-    }
-  }
-  return line;
-}
-
 bool is_printable(std::string_view value) {
   return std::all_of(value.begin(), value.end(),
                      [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; });
@@ -131,8 +106,14 @@ void set_port(BridgeConfig& c, std::string_view v, const std::string& origin) {
   c.server.port = parse_int<std::uint16_t>(v, 0, 65535, origin, "Port");
 }
 
+// 2^24 observations is AgentOptions' limit (about 1 GiB); cppagent's
+// default is 17.
+constexpr unsigned kMaxBufferExponent = 24;
+static_assert((std::size_t{1} << kMaxBufferExponent) == kMaxBufferSize);
+
 void set_buffer_size(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  const auto exponent = parse_int<unsigned>(v, 1, 30, origin, "BufferSize (exponent)");
+  const auto exponent =
+      parse_int<unsigned>(v, 1, kMaxBufferExponent, origin, "BufferSize (exponent)");
   c.agent.buffer_size = std::size_t{1} << exponent;
 }
 
@@ -218,7 +199,27 @@ void set_write_timeout(BridgeConfig& c, std::string_view v, const std::string& o
   c.server.write_timeout = parse_ms(v, 100, 3600000, origin, "WriteTimeoutMs");
 }
 
-const std::array<Setting, 18> kSettings{{
+void set_max_per_client(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.server.max_connections_per_client =
+      parse_int<std::size_t>(v, 1, 100000, origin, "MaxConnectionsPerClient");
+}
+
+void set_max_pending(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.server.max_pending_bytes = parse_int<std::size_t>(v, std::size_t{1} << 16, std::size_t{1} << 40,
+                                                      origin, "MaxPendingBytes");
+}
+
+void set_max_document(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.agent.max_document_bytes = parse_int<std::size_t>(v, std::size_t{1} << 12, std::size_t{1} << 31,
+                                                      origin, "MaxDocumentBytes");
+}
+
+void set_path_visits(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.agent.path_limits.max_visits = static_cast<double>(
+      parse_int<std::uint64_t>(v, 1000, std::uint64_t{1} << 40, origin, "PathMaxVisits"));
+}
+
+const std::array<Setting, 22> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -255,9 +256,28 @@ const std::array<Setting, 18> kSettings{{
     {"StreamHeartbeatMs", "--stream-heartbeat-ms",
      "HTTP stream heartbeat when a request names none", set_stream_heartbeat,
      [](const BridgeConfig& c) { return show_ms(c.agent.stream_heartbeat); }},
-    {"MaxConnections", "--max-connections", "open connections; more get 503", set_max_connections,
+    {"MaxConnections", "--max-connections",
+     "open connections; a new one replaces the longest-waiting idle one, else gets 503",
+     set_max_connections,
      [](const BridgeConfig& c) { return std::to_string(c.server.max_connections); }},
-    {"HeaderTimeoutMs", "--header-timeout-ms", "time to send a request header", set_header_timeout,
+    {"MaxConnectionsPerClient", "--max-connections-per-client",
+     "open connections from one client address", set_max_per_client,
+     [](const BridgeConfig& c) { return std::to_string(c.server.max_connections_per_client); }},
+    {"MaxPendingBytes", "--max-pending-bytes",
+     "answer bytes waiting for clients that do not read; a large answer beyond gets 503",
+     set_max_pending,
+     [](const BridgeConfig& c) { return std::to_string(c.server.max_pending_bytes); }},
+    {"MaxDocumentBytes", "--max-document-bytes",
+     "largest /sample document; a larger one stops early (nextSequence goes on)", set_max_document,
+     [](const BridgeConfig& c) { return std::to_string(c.agent.max_document_bytes); }},
+    {"PathMaxVisits", "--path-max-visits",
+     "estimated node visits a path filter may cost; more is refused (INVALID_PATH)",
+     set_path_visits,
+     [](const BridgeConfig& c) {
+       return std::to_string(static_cast<std::uint64_t>(c.agent.path_limits.max_visits));
+     }},
+    {"HeaderTimeoutMs", "--header-timeout-ms",
+     "time to send a request header (the first: from the connection)", set_header_timeout,
      [](const BridgeConfig& c) { return show_ms(c.server.header_timeout); }},
     {"IdleTimeoutMs", "--idle-timeout-ms", "keep-alive idle time before closing", set_idle_timeout,
      [](const BridgeConfig& c) { return show_ms(c.server.idle_timeout); }},
@@ -288,6 +308,10 @@ const Setting* find_flag(std::string_view flag) {
 
 }  // namespace
 
+bool is_config_key(std::string_view key) {
+  return find_key(key) != nullptr;
+}
+
 void apply_config_value(BridgeConfig& config, std::string_view key, std::string_view value,
                         std::string_view origin) {
   const std::string where(origin);
@@ -299,62 +323,6 @@ void apply_config_value(BridgeConfig& config, std::string_view key, std::string_
     fail(where, "empty value for " + std::string(key));
   }
   setting->set(config, value, where);
-}
-
-void parse_config_text(BridgeConfig& config, std::string_view text, std::string_view name) {
-  std::map<std::string, std::size_t, std::less<>> seen;  // key -> line
-  std::size_t number = 0;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    auto end = text.find('\n', start);
-    if (end == std::string_view::npos) {
-      end = text.size();
-    }
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    ++number;
-    const std::string where = std::string(name) + ":" + std::to_string(number);
-    if (line.find('\0') != std::string_view::npos) {
-      fail(where, "binary data in config file");
-    }
-    line = trim(strip_comment(line));
-    if (line.empty()) {
-      continue;
-    }
-    if (line.find_first_of("{}") != std::string_view::npos) {
-      fail(where, "blocks ('Name { ... }') are not supported by mtc-bridge");
-    }
-    const auto eq = line.find('=');
-    if (eq == std::string_view::npos) {
-      fail(where, "expected 'Key = Value', got '" + std::string(line) + "'");
-    }
-    const auto key = trim(line.substr(0, eq));
-    auto value = trim(line.substr(eq + 1));
-    if (key.empty()) {
-      fail(where, "missing key before '='");
-    }
-    if (value.size() >= 2 && value.front() == '"' && value.back() == '"') {
-      value = value.substr(1, value.size() - 2);
-    }
-    if (auto it = seen.find(key); it != seen.end()) {
-      fail(where, std::string(key) + " is already set on line " + std::to_string(it->second));
-    }
-    seen.emplace(std::string(key), number);
-    apply_config_value(config, key, value, where);
-  }
-}
-
-void load_config_file(BridgeConfig& config, const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError(path + ": cannot open config file");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    throw ConfigError(path + ": cannot read config file");
-  }
-  parse_config_text(config, text.str(), path);
 }
 
 CommandLine parse_command_line(int argc, const char* const* argv) {
@@ -404,7 +372,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     return result;
   }
   if (!result.config_file.empty()) {
-    load_config_file(result.config, result.config_file);
+    result.warnings = load_config_file(result.config, result.config_file);
   }
   for (const auto& [setting, value] : overrides) {
     apply_config_value(result.config, setting->key, value, setting->flag);

@@ -8,6 +8,7 @@
 // --help prints them from there.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -21,10 +22,11 @@ namespace mtc::bridge {
 
 struct BridgeConfig {
   // Devices, BufferSize (2^n observations), SchemaVersion, Sender,
-  // StreamHeartbeatMs.
+  // StreamHeartbeatMs, MaxDocumentBytes, PathMaxVisits.
   AgentOptions agent;
   // ServerIp, Port, IoThreads (WorkerThreads), MaxConnections,
-  // HeaderTimeoutMs, IdleTimeoutMs, WriteTimeoutMs.
+  // MaxConnectionsPerClient, MaxPendingBytes, HeaderTimeoutMs,
+  // IdleTimeoutMs, WriteTimeoutMs.
   ServerOptions server;
   // DeviceFilter, Transport, and in `timing` HeartbeatMs and
   // MissedHeartbeats: the DDS heartbeat of the observed devices and how many
@@ -42,6 +44,9 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// True for a key mtc-bridge reads (as spelled in the file, case-sensitive).
+bool is_config_key(std::string_view key);
+
 // Sets one key (as spelled in the file, case-sensitive) from its text.
 // Throws ConfigError naming `origin` for an unknown key or a bad value.
 void apply_config_value(BridgeConfig& config, std::string_view key, std::string_view value,
@@ -49,16 +54,24 @@ void apply_config_value(BridgeConfig& config, std::string_view key, std::string_
 
 // Parses the text of a configuration file onto `config`. `name` is used in
 // messages ("agent.cfg:12: ..."). Throws ConfigError on the first bad line.
-void parse_config_text(BridgeConfig& config, std::string_view text, std::string_view name);
+// Keys and blocks of the reference agent's agent.cfg that mtc-bridge does
+// not use are skipped; the returned warnings name each one with its line.
+std::vector<std::string> parse_config_text(BridgeConfig& config, std::string_view text,
+                                           std::string_view name);
 
-// Reads and parses a file; a missing or unreadable file is a ConfigError.
-void load_config_file(BridgeConfig& config, const std::string& path);
+// Largest configuration file read (agent.cfg files are a few KiB).
+inline constexpr std::size_t kMaxConfigBytes = std::size_t{1} << 20;
+
+// Reads and parses a file (parse_config_text); a missing, unreadable or
+// larger than kMaxConfigBytes file (/dev/zero) is a ConfigError.
+std::vector<std::string> load_config_file(BridgeConfig& config, const std::string& path);
 
 // What the command line asked for.
 struct CommandLine {
   BridgeConfig config;
   bool help = false;
-  std::string config_file;  // empty: none given
+  std::string config_file;            // empty: none given
+  std::vector<std::string> warnings;  // from the config file, for stderr
 };
 
 // Parses argv: `--config FILE` (or a lone FILE argument) is read first,

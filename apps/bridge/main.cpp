@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
     std::cout << usage_text("mtc-bridge");
     return 0;
   }
+  for (const std::string& warning : line.warnings) {
+    std::cerr << "mtc-bridge: warning: " << warning << "\n";
+  }
   try {
     BridgeApp app(line.config);
     app.run(std::cout);

@@ -40,11 +40,12 @@ class AgentImpl final : public MtconnectAgent {
   std::uint64_t subscribe(std::function<void()> on_new_data) override;
   void unsubscribe(std::uint64_t id) override;
 
-  void add_device(const core::ObservedDevice& device) override;
-  void add_value(const core::ObservedValue& value) override;
-  void items_lost(const std::string& device_uuid,
-                  const std::vector<std::string>& data_item_ids) override;
-  void device_lost(const std::string& device_uuid) override;
+  // Text from DDS peers is made fit for XML first (make_xml_safe).
+  void add_device(const core::ObservedDevice& announced) override;
+  void add_value(const core::ObservedValue& received) override;
+  void items_lost(const std::string& received_uuid,
+                  const std::vector<std::string>& received_ids) override;
+  void device_lost(const std::string& received_uuid) override;
   AgentStats stats() const override;
   SchemaVersion schema_version() const noexcept override { return printer_.version(); }
   std::uint64_t instance_id() const noexcept override { return instance_id_; }
@@ -72,6 +73,8 @@ class AgentImpl final : public MtconnectAgent {
   Routed handle_assets(const Query& q);
   Routed handle_asset(const Query& q);
   std::vector<std::int32_t> item_filter(const Query& q) const;
+  // model_.select under the path limits, remembered per model generation.
+  std::vector<std::size_t> select(const std::string& path, std::optional<std::size_t> device) const;
   HeaderInfo header() const;
   Response current(const Query& q, const std::string& cache_key);
   Response sample(const Query& q, std::uint64_t& next_out) const;
@@ -108,6 +111,9 @@ class AgentImpl final : public MtconnectAgent {
   };
   mutable std::mutex cache_mutex_;
   std::unordered_map<std::string, CachedDoc> cache_;
+  // "<device>|<path>" -> (generation, selected items).
+  mutable std::unordered_map<std::string, std::pair<std::uint64_t, std::vector<std::size_t>>>
+      selections_;
 
   mutable std::mutex wait_mutex_;
   mutable std::condition_variable wait_cv_;

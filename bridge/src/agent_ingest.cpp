@@ -1,8 +1,10 @@
 // AgentImpl: construction, ingest from the DDS observer, stream waiting.
 #include <chrono>
+#include <new>
 #include <stdexcept>
 
 #include "agent_impl.hpp"
+#include "mtc/bridge/xml_text.hpp"
 
 namespace mtc::bridge {
 
@@ -43,6 +45,36 @@ bool same_device(const core::ObservedDevice& a, const core::ObservedDevice& b) {
   return true;
 }
 
+// Text from DDS peers becomes XML text (device names, uuids, ids): made
+// fit once here, so that the model, the slots and every document agree on
+// it and a peer's stray byte cannot spoil documents for good.
+void make_safe(std::string& text) {
+  if (find_unfit_xml_char(text) != std::string::npos) text = make_xml_safe(text);
+}
+
+core::ObservedDevice xml_safe(core::ObservedDevice device) {
+  make_safe(device.device_uuid);
+  make_safe(device.name);
+  for (core::ObservedInterface& itf : device.interfaces) {
+    make_safe(itf.id);
+    make_safe(itf.name);
+    for (core::ObservedDataItem& di : itf.data_items) {
+      make_safe(di.id);
+      make_safe(di.name);
+      make_safe(di.type);
+      make_safe(di.sub_type);
+      make_safe(di.category);
+    }
+  }
+  return device;
+}
+
+bool is_fit(const core::ObservedValue& v) {
+  return find_unfit_xml_char(v.device_uuid) == std::string::npos &&
+         find_unfit_xml_char(v.data_item_id) == std::string::npos &&
+         find_unfit_xml_char(v.interface_id) == std::string::npos;
+}
+
 SchemaVersion pick_version(const AgentOptions& options, const DeviceModel& model) {
   if (options.schema_version) return *options.schema_version;
   if (model.file_version()) return *model.file_version();
@@ -66,7 +98,7 @@ AgentImpl::AgentImpl(const AgentOptions& options)
   routes_ = make_routes();
   model_change_ns_ = now_ns();
   if (!options.devices_file.empty()) {
-    model_ = DeviceModel::from_file(options.devices_file, slots_);
+    model_ = DeviceModel::from_file(options.devices_file, slots_, options.devices_limits);
     printer_ = Printer(pick_version(options, model_));
     from_file_ = true;
   }
@@ -165,7 +197,8 @@ std::optional<std::size_t> AgentImpl::resolve_value(const core::ObservedValue& v
   return model_.resolve_item(uuid, value.data_item_id, hint);
 }
 
-void AgentImpl::add_device(const core::ObservedDevice& device) {
+void AgentImpl::add_device(const core::ObservedDevice& announced) {
+  const core::ObservedDevice device = xml_safe(announced);
   std::size_t before = 0;
   std::size_t after = 0;
   {
@@ -193,7 +226,16 @@ void AgentImpl::add_device(const core::ObservedDevice& device) {
   notify(after - before);
 }
 
-void AgentImpl::add_value(const core::ObservedValue& value) {
+void AgentImpl::add_value(const core::ObservedValue& received) {
+  if (!is_fit(received)) {
+    core::ObservedValue value = received;
+    make_safe(value.device_uuid);
+    make_safe(value.data_item_id);
+    make_safe(value.interface_id);
+    add_value(value);
+    return;
+  }
+  const core::ObservedValue& value = received;
   std::size_t appended = 0;
   std::string warning;
   {
@@ -230,7 +272,12 @@ void AgentImpl::add_value(const core::ObservedValue& value) {
   notify(appended);
 }
 
-void AgentImpl::items_lost(const std::string& device_uuid, const std::vector<std::string>& ids) {
+void AgentImpl::items_lost(const std::string& received_uuid,
+                           const std::vector<std::string>& received_ids) {
+  std::string device_uuid = received_uuid;
+  make_safe(device_uuid);
+  std::vector<std::string> ids = received_ids;
+  for (std::string& id : ids) make_safe(id);
   std::size_t appended = 0;
   {
     std::unique_lock lock(data_);
@@ -250,7 +297,9 @@ void AgentImpl::items_lost(const std::string& device_uuid, const std::vector<std
   notify(appended);
 }
 
-void AgentImpl::device_lost(const std::string& device_uuid) {
+void AgentImpl::device_lost(const std::string& received_uuid) {
+  std::string device_uuid = received_uuid;
+  make_safe(device_uuid);
   std::size_t appended = 0;
   {
     std::unique_lock lock(data_);
@@ -313,12 +362,22 @@ void AgentImpl::unsubscribe(std::uint64_t id) {
 }  // namespace detail
 
 std::unique_ptr<MtconnectAgent> make_agent(const AgentOptions& options) {
-  if (options.buffer_size < 2) throw std::invalid_argument("buffer_size must be at least 2");
+  if (options.buffer_size < 2 || options.buffer_size > kMaxBufferSize) {
+    throw std::invalid_argument("buffer_size must be from 2 to " + std::to_string(kMaxBufferSize) +
+                                ", not " + std::to_string(options.buffer_size));
+  }
   if (options.default_count == 0) throw std::invalid_argument("default_count must be at least 1");
   if (options.stream_heartbeat.count() <= 0) {
     throw std::invalid_argument("stream_heartbeat must be positive");
   }
-  return std::make_unique<detail::AgentImpl>(options);
+  try {
+    return std::make_unique<detail::AgentImpl>(options);
+  } catch (const std::bad_alloc&) {
+    const std::size_t mib = (options.buffer_size * sizeof(Observation)) >> 20;
+    throw std::invalid_argument("out of memory building the agent (a buffer of " +
+                                std::to_string(options.buffer_size) + " observations needs " +
+                                std::to_string(mib) + " MiB and more): lower buffer_size");
+  }
 }
 
 }  // namespace mtc::bridge

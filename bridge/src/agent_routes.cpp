@@ -160,15 +160,31 @@ Routed AgentImpl::handle_sample(const Query& q) {
   return Routed{sample(q, next), std::nullopt};
 }
 
+std::vector<std::size_t> AgentImpl::select(const std::string& path,
+                                           std::optional<std::size_t> device) const {
+  // Remembered per model: a stream re-reads its path for every part.
+  const std::string key = std::to_string(device ? *device : SIZE_MAX) + '|' + path;
+  {
+    std::lock_guard lock(cache_mutex_);
+    const auto it = selections_.find(key);
+    if (it != selections_.end() && it->second.first == generation_) return it->second.second;
+  }
+  std::vector<std::size_t> items;
+  try {
+    items = model_.select(path, device, options_.path_limits);
+  } catch (const std::invalid_argument& e) {
+    throw RequestError{"INVALID_PATH", 400, "the path is not accepted: " + std::string(e.what())};
+  }
+  std::lock_guard lock(cache_mutex_);
+  if (selections_.size() > 256) selections_.clear();  // bound memory against path variety
+  selections_[key] = {generation_, items};
+  return items;
+}
+
 std::vector<std::int32_t> AgentImpl::item_filter(const Query& q) const {
   std::vector<std::size_t> items;
   if (q.path) {
-    try {
-      items = model_.select(*q.path, q.device_index);
-    } catch (const std::invalid_argument& e) {
-      throw RequestError{"INVALID_PATH", 400,
-                         "the path could not be parsed: " + std::string(e.what())};
-    }
+    items = select(*q.path, q.device_index);
     if (items.empty()) {
       throw RequestError{"INVALID_PATH", 400, "the path selects no data items: " + *q.path};
     }

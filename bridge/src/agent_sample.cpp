@@ -6,6 +6,9 @@
 // count < 0: the last |count| matching observations below `to` (default:
 // nextSequence) and not below `from`; printed oldest first; nextSequence is
 // the sequence after the range examined.
+// Either way a document stops at AgentOptions::max_document_bytes: a
+// positive count then ends before the first observation left out (its
+// nextSequence), a negative one keeps the newest.
 #include <algorithm>
 
 #include "agent_impl.hpp"
@@ -16,6 +19,15 @@ namespace {
 
 RequestError out_of_range(std::string text) {
   return {"OUT_OF_RANGE", 400, std::move(text)};
+}
+
+// Bytes one observation takes in a Streams document, about: the element's
+// name twice, its attributes (timestamp 27 characters, the sequence up to
+// 20 digits) and its value.
+std::size_t printed_size(const DataItemInfo& item, const Observation& o) {
+  constexpr std::size_t kFixed = 110;  // markup, timestamp and sequence
+  return kFixed + 2 * item.element.size() + item.id.size() + item.name.size() +
+         item.sub_type.size() + item.type.size() + o.value.size();
 }
 
 }  // namespace
@@ -49,21 +61,28 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
   std::vector<StreamEntry> entries;
   const auto lower = static_cast<std::uint64_t>(q.from.value_or(first));
   const auto upper = static_cast<std::uint64_t>(q.to.value_or(next));  // exclusive
+  const auto wanted = static_cast<std::size_t>(count > 0 ? count : -count);
+  std::size_t bytes = 0;
+  // Takes the observation unless the document is full (never empty).
+  auto take = [&](const Observation* o) {
+    const auto item = static_cast<std::size_t>(filter[o->slot]);
+    bytes += printed_size(model_.data_items()[item], *o);
+    if (!entries.empty() && bytes > options_.max_document_bytes) return false;
+    entries.push_back({item, o});
+    return true;
+  };
   std::uint64_t end = upper;
   if (count > 0) {
     std::uint64_t seq = lower;
-    for (; seq < upper && entries.size() < static_cast<std::size_t>(count); ++seq) {
-      if (const Observation* o = selected(seq)) {
-        entries.push_back({static_cast<std::size_t>(filter[o->slot]), o});
-      }
+    for (; seq < upper && entries.size() < wanted; ++seq) {
+      const Observation* o = selected(seq);
+      if (o && !take(o)) break;  // nextSequence: the one left out
     }
     end = seq;
   } else {
-    for (std::uint64_t seq = upper;
-         seq > lower && entries.size() < static_cast<std::size_t>(-count); --seq) {
-      if (const Observation* o = selected(seq - 1)) {
-        entries.push_back({static_cast<std::size_t>(filter[o->slot]), o});
-      }
+    for (std::uint64_t seq = upper; seq > lower && entries.size() < wanted; --seq) {
+      const Observation* o = selected(seq - 1);
+      if (o && !take(o)) break;  // the newest ones that fit
     }
     std::reverse(entries.begin(), entries.end());
   }

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <stdexcept>
+#include <unordered_set>
 
 namespace mtc::bridge {
 
@@ -42,20 +44,52 @@ std::string element_name_for_type(std::string_view type) {
 }
 
 namespace {
-// Pre-order successor of `n` within the subtree of `root` (elements only).
-pugi::xml_node next_in(pugi::xml_node root, pugi::xml_node n) {
-  if (pugi::xml_node c = n.first_child()) return c;
-  while (n && n != root) {
-    if (pugi::xml_node s = n.next_sibling()) return s;
-    n = n.parent();
+
+// Counts what estimate_path_cost needs, without recursion.
+class ShapeCounter : public pugi::xml_tree_walker {
+ public:
+  explicit ShapeCounter(TreeShape& shape) : shape_(shape) {}
+  bool for_each(pugi::xml_node& node) override {
+    ++shape_.nodes;
+    shape_.height = std::max<std::uint64_t>(shape_.height, static_cast<std::uint64_t>(depth()) + 1);
+    count_text(node.name());
+    count_text(node.value());
+    if (node.type() != pugi::node_element) return true;
+    ++shape_.elements;
+    ++shape_.element_names[node.name()];
+    std::uint64_t children = 0;
+    for (pugi::xml_node c = node.first_child(); !c.empty(); c = c.next_sibling()) {
+      ++children;
+    }
+    shape_.max_children = std::max(shape_.max_children, children);
+    std::uint64_t attributes = 0;
+    for (pugi::xml_attribute a : node.attributes()) {
+      ++attributes;
+      ++shape_.attribute_names[a.name()];
+      count_text(a.name());
+      count_text(a.value());
+      shape_.max_attribute_bytes =
+          std::max<std::uint64_t>(shape_.max_attribute_bytes, std::strlen(a.value()));
+    }
+    shape_.attributes += attributes;
+    shape_.max_attributes = std::max(shape_.max_attributes, attributes);
+    return true;
   }
-  return {};
-}
+
+ private:
+  void count_text(std::string_view text) { shape_.text_bytes += text.size(); }
+  TreeShape& shape_;
+};
+
 }  // namespace
 
 DeviceModel::DeviceModel() = default;
 
 void DeviceModel::index(SlotRegistry& slots) {
+  shape_ = TreeShape{};  // the document node itself
+  ShapeCounter counter(shape_);
+  doc_.traverse(counter);
+  shape_.max_children = std::max<std::uint64_t>(shape_.max_children, 1);
   devices_.clear();
   components_.clear();
   items_.clear();
@@ -150,7 +184,13 @@ std::vector<std::size_t> DeviceModel::all_items(std::optional<std::size_t> devic
 }
 
 std::vector<std::size_t> DeviceModel::select(const std::string& xpath,
-                                             std::optional<std::size_t> device) const {
+                                             std::optional<std::size_t> device,
+                                             const PathLimits& limits) const {
+  // The walk collecting DataItems below visits every node once more.
+  PathLimits xpath_limits = limits;
+  xpath_limits.max_visits -= static_cast<double>(shape_.nodes);
+  const PathCost cost = estimate_path_cost(xpath, shape_, xpath_limits);
+  if (!cost.accepted) throw std::invalid_argument(cost.error);
   pugi::xpath_node_set nodes;
   try {
     const pugi::xpath_query query(xpath.c_str());
@@ -158,23 +198,37 @@ std::vector<std::size_t> DeviceModel::select(const std::string& xpath,
   } catch (const pugi::xpath_exception& e) {
     throw std::invalid_argument(e.what());
   }
-  std::vector<std::size_t> out;
-  auto add = [&](pugi::xml_node di) {
-    const auto it = item_by_xml_id_.find(di.attribute("id").value());
-    if (it == item_by_xml_id_.end()) return;
-    if (device && items_[it->second].device != *device) return;
-    out.push_back(it->second);
-  };
+  // Selected elements (an attribute stands for its element), then one walk
+  // of the tree collecting the DataItems at or under them: linear in the
+  // tree, however many nested elements the path selected.
+  std::unordered_set<const void*> selected;
   for (const pugi::xpath_node& n : nodes) {
-    pugi::xml_node node = n.attribute() ? n.parent() : n.node();
-    if (node.type() != pugi::node_element) continue;
-    if (std::string_view(node.name()) == "DataItem") {
-      add(node);
+    const pugi::xml_node node = n.attribute() ? n.parent() : n.node();
+    if (node.type() == pugi::node_element) selected.insert(node.internal_object());
+  }
+  std::vector<std::size_t> out;
+  if (selected.empty()) return out;
+  std::ptrdiff_t depth = 0;
+  std::ptrdiff_t inside = -1;  // depth of the selected element we are under
+  for (pugi::xml_node n = doc_.first_child(); !n.empty();) {
+    if (inside >= 0 && depth <= inside) inside = -1;
+    if (inside < 0 && selected.count(n.internal_object()) != 0) inside = depth;
+    if (inside >= 0 && std::string_view(n.name()) == "DataItem") {
+      const auto it = item_by_xml_id_.find(n.attribute("id").value());
+      if (it != item_by_xml_id_.end() && (!device || items_[it->second].device == *device)) {
+        out.push_back(it->second);
+      }
+    }
+    if (!n.first_child().empty()) {
+      n = n.first_child();
+      ++depth;
       continue;
     }
-    for (pugi::xml_node d = node.first_child(); d; d = next_in(node, d)) {
-      if (std::string_view(d.name()) == "DataItem") add(d);
+    while (!n.empty() && n.next_sibling().empty()) {
+      n = n.parent();
+      --depth;
     }
+    if (!n.empty()) n = n.next_sibling();
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());

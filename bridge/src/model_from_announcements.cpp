@@ -1,11 +1,13 @@
 // DeviceModel from the devices' DDS announcements: one Device per
 // announcement, holding an AVAILABILITY item and an Interfaces component
-// with one *Interface component per announced interface.
+// with one *Interface component per announced interface. The agent hands
+// announcements over with their text already fit for XML (make_xml_safe).
 #include <cctype>
 #include <map>
 #include <unordered_set>
 
 #include "mtc/bridge/device_model.hpp"
+#include "mtc/bridge/xml_text.hpp"
 
 namespace mtc::bridge {
 
@@ -92,11 +94,16 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
       if (!itf.name.empty()) comp.append_attribute("name") = itf.name.c_str();
       pugi::xml_node items;
       for (const core::ObservedDataItem& di : itf.data_items) {
-        if (di.type.empty() || di.id.empty()) continue;
+        // A type or subType that is not an MTConnect name would print as a
+        // broken element or an attribute no schema accepts: left out.
+        if (di.id.empty() || !is_data_item_type(di.type)) continue;
+        if (!di.sub_type.empty() && !is_data_item_type(di.sub_type)) continue;
         if (!items) items = comp.append_child("DataItems");
         pugi::xml_node node = items.append_child("DataItem");
         const std::string xml_id = ids.make(qualified(di.id), "item");
-        node.append_attribute("category") = di.category.empty() ? "EVENT" : di.category.c_str();
+        const bool known_category =
+            di.category == "SAMPLE" || di.category == "EVENT" || di.category == "CONDITION";
+        node.append_attribute("category") = known_category ? di.category.c_str() : "EVENT";
         node.append_attribute("id") = xml_id.c_str();
         if (!di.name.empty()) node.append_attribute("name") = di.name.c_str();
         node.append_attribute("type") = di.type.c_str();

@@ -1,14 +1,17 @@
 // DeviceModel from a user's MTConnectDevices file (1.3 .. 2.0). The file is
 // checked for what the agent relies on (ids, uuids, data item types and
-// categories, unique ids); anything else in it is served as written.
+// categories, unique ids and devices) and for what would hurt it (size,
+// nesting, DOCTYPE entities, text XML forbids); anything else in it is
+// served as written.
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <iterator>
+#include <map>
 #include <set>
-#include <sstream>
 
+#include "mtc/bridge/bounded_file.hpp"
 #include "mtc/bridge/device_model.hpp"
+#include "mtc/bridge/xml_text.hpp"
 
 namespace mtc::bridge {
 
@@ -56,6 +59,10 @@ class FileChecker {
       }
       check_id(di);
       require(di, "type");
+      if (!is_data_item_type(di.attribute("type").value())) {
+        fail(di, std::string("DataItem type '") + di.attribute("type").value() +
+                     "' is not an MTConnect type name (UPPER_CASE, optionally prefix:)");
+      }
       require(di, "category");
       const std::string_view category = di.attribute("category").value();
       if (category != "SAMPLE" && category != "EVENT" && category != "CONDITION") {
@@ -68,10 +75,66 @@ class FileChecker {
     }
   }
 
+  // Devices are found by name or uuid (/{device}, DDS uuids): each must
+  // name one device only.
+  // A device may use its uuid as its name; no other device may use either.
+  void check_unique_device(pugi::xml_node device) {
+    for (const char* attribute : {"uuid", "name"}) {
+      const std::string value = device.attribute(attribute).value();
+      const auto [it, inserted] = device_keys_.emplace(value, device.offset_debug());
+      if (!inserted && it->second != device.offset_debug()) {
+        fail(device, std::string("duplicate device ") + attribute + " '" + value +
+                         "' (first on line " + std::to_string(line_of(it->second)) + ")");
+      }
+    }
+  }
+
  private:
   std::string_view text_;
   const std::string& name_;
   std::set<std::string> ids_;
+  std::map<std::string, std::ptrdiff_t> device_keys_;  // names and uuids -> offset
+};
+
+// Walks the whole parsed tree without recursion (pugixml's traverse keeps
+// its own cursor) and refuses the first node nested deeper than the limit
+// or holding text XML forbids; the recursive checks after it rely on both.
+class TreeGuard : public pugi::xml_tree_walker {
+ public:
+  TreeGuard(const FileChecker& check, std::size_t max_depth) : check_(check), max_(max_depth) {}
+
+  bool for_each(pugi::xml_node& node) override {
+    // depth() counts from 0 at the document element's level.
+    if (node.type() == pugi::node_element && static_cast<std::size_t>(depth()) + 1 > max_) {
+      check_.fail(node, "elements nested deeper than " + std::to_string(max_) + " levels (<" +
+                            node.name() + ">)");
+    }
+    check_text(node, node.name());
+    check_text(node, node.value());
+    for (pugi::xml_attribute a : node.attributes()) {
+      check_text(node, a.name());
+      check_text(node, a.value());
+    }
+    return true;
+  }
+
+ private:
+  void check_text(pugi::xml_node node, std::string_view text) const {
+    const std::size_t bad = find_unfit_xml_char(text);
+    if (bad == std::string_view::npos) return;
+    const auto byte = static_cast<unsigned char>(text[bad]);
+    if (byte < 0x80) {
+      check_.fail(node, "character U+00" + hex(byte) + " is not allowed in XML");
+    }
+    check_.fail(node, "text is not valid UTF-8 (byte 0x" + hex(byte) + ")");
+  }
+  static std::string hex(unsigned char byte) {
+    constexpr const char* kDigits = "0123456789ABCDEF";
+    return {kDigits[byte >> 4], kDigits[byte & 0xF]};
+  }
+
+  const FileChecker& check_;
+  std::size_t max_;
 };
 
 // Removes `prefix:` from every element name (a document written with a
@@ -86,24 +149,67 @@ void strip_prefix(pugi::xml_node node, const std::string& prefix) {
   }
 }
 
+// Parses `xml` into `source` and refuses, before anything recurses over
+// it, what ModelLimits excludes, a DOCTYPE, and text XML forbids.
+void parse_guarded(pugi::xml_document& source, std::string_view xml, FileChecker& check,
+                   const ModelLimits& limits) {
+  if (xml.size() > limits.max_file_bytes) {
+    check.fail(
+        0, "the Devices file is larger than " + std::to_string(limits.max_file_bytes) + " bytes");
+  }
+  // DOCTYPE kept as a node so that it can be refused by line: pugixml never
+  // expands declared entities, but a document that declares them would be
+  // served with the references unexpanded, i.e. not as written.
+  const pugi::xml_parse_result parsed =
+      source.load_buffer(xml.data(), xml.size(), pugi::parse_default | pugi::parse_doctype);
+  if (!parsed) {
+    check.fail(parsed.offset, std::string("not well-formed XML: ") + parsed.description());
+  }
+  for (pugi::xml_node top : source.children()) {
+    if (top.type() == pugi::node_doctype) {
+      check.fail(top, "DOCTYPE declarations (and the entities they declare) are not accepted");
+    }
+  }
+  TreeGuard guard(check, limits.max_depth);
+  source.traverse(guard);
+}
+
+// The <Devices> element, every device checked (ids, names, uuids, items).
+pugi::xml_node checked_devices(pugi::xml_node root, FileChecker& check) {
+  pugi::xml_node devices = root.child("Devices");
+  if (!devices) check.fail(root, "<MTConnectDevices> has no <Devices> element");
+  bool any_device = false;
+  for (pugi::xml_node dev : devices.children()) {
+    if (dev.type() != pugi::node_element) continue;
+    const std::string_view dn = dev.name();
+    if (dn != "Device" && dn != "Agent") {
+      check.fail(dev, "unexpected <" + std::string(dn) + "> in <Devices>");
+    }
+    check.require(dev, "name");
+    check.require(dev, "uuid");
+    check.check_unique_device(dev);
+    check.check_component(dev);
+    any_device = true;
+  }
+  if (!any_device) check.fail(devices, "<Devices> holds no <Device>");
+  return devices;
+}
+
 }  // namespace
 
-DeviceModel DeviceModel::from_file(const std::string& path, SlotRegistry& slots) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError(path, 0, "cannot open the Devices file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw ModelError(path, 0, "cannot read the Devices file");
-  return from_text(text.str(), path, slots);
+DeviceModel DeviceModel::from_file(const std::string& path, SlotRegistry& slots,
+                                   const ModelLimits& limits) {
+  std::string error;
+  const auto text = read_bounded_file(path, limits.max_file_bytes, "the Devices file", error);
+  if (!text) throw ModelError(path, 0, error);
+  return from_text(*text, path, slots, limits);
 }
 
 DeviceModel DeviceModel::from_text(std::string_view xml, const std::string& name,
-                                   SlotRegistry& slots) {
+                                   SlotRegistry& slots, const ModelLimits& limits) {
   FileChecker check(xml, name);
   pugi::xml_document source;
-  const pugi::xml_parse_result parsed = source.load_buffer(xml.data(), xml.size());
-  if (!parsed)
-    check.fail(parsed.offset, std::string("not well-formed XML: ") + parsed.description());
+  parse_guarded(source, xml, check, limits);
 
   pugi::xml_node root = source.document_element();
   std::string root_name = root.name();
@@ -131,22 +237,7 @@ DeviceModel DeviceModel::from_text(std::string_view xml, const std::string& name
   }
   if (!prefix.empty()) strip_prefix(root, prefix);
 
-  pugi::xml_node devices = root.child("Devices");
-  if (!devices) check.fail(root, "<MTConnectDevices> has no <Devices> element");
-  bool any_device = false;
-  for (pugi::xml_node dev : devices.children()) {
-    if (dev.type() != pugi::node_element) continue;
-    const std::string_view dn = dev.name();
-    if (dn != "Device" && dn != "Agent") {
-      check.fail(dev, "unexpected <" + std::string(dn) + "> in <Devices>");
-    }
-    check.require(dev, "name");
-    check.require(dev, "uuid");
-    check.check_component(dev);
-    any_device = true;
-  }
-  if (!any_device) check.fail(devices, "<Devices> holds no <Device>");
-
+  const pugi::xml_node devices = checked_devices(root, check);
   model.doc_.append_copy(devices);
   model.index(slots);
   return model;

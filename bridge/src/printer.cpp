@@ -4,6 +4,8 @@
 #include <ctime>
 #include <pugixml.hpp>
 
+#include "mtc/bridge/xml_text.hpp"
+
 namespace mtc::bridge {
 
 namespace {
@@ -66,7 +68,7 @@ pugi::xml_node make_header(pugi::xml_node root, const HeaderInfo& h, SchemaVersi
                            bool model_time) {
   pugi::xml_node header = root.append_child("Header");
   header.append_attribute("creationTime") = format_creation_time(h.creation_time_ns).c_str();
-  header.append_attribute("sender") = h.sender.c_str();
+  header.append_attribute("sender") = make_xml_safe(h.sender).c_str();
   header.append_attribute("instanceId") = static_cast<unsigned long long>(h.instance_id);
   header.append_attribute("version") = std::string(header_version(v)).c_str();
   if (model_time && has_model_change_time(v)) {
@@ -238,7 +240,8 @@ std::string Printer::error(const HeaderInfo& h, const std::vector<ErrorEntry>& e
   for (const ErrorEntry& e : errors) {
     pugi::xml_node node = list.append_child("Error");
     node.append_attribute("errorCode") = std::string(e.code).c_str();
-    node.text().set(e.text.c_str());
+    // Error texts quote requests (a URL may carry any byte once decoded).
+    node.text().set(make_xml_safe(e.text).c_str());
   }
   return serialise(doc, pretty);
 }

@@ -27,6 +27,7 @@ struct WriterInfo {
   bool description = false;
   std::set<std::string> items;
   std::int64_t last_ns = 0;  // last reception from this writer
+  bool alive = true;         // no loss reported since its last sign of life
 };
 
 }  // namespace
@@ -62,8 +63,10 @@ struct DomainObserver::Impl {
     w.device = v.device_uuid;
     w.items.insert(v.data_item_id);
     w.last_ns = v.reception_time_ns;
+    w.alive = true;
     instances[{e.topic, e.instance}] = {v.device_uuid, v.data_item_id};
     lost_items.erase({v.device_uuid, v.data_item_id});
+    lost_devices.erase(v.device_uuid);  // it is back: its next loss counts
     if (callbacks.on_value) callbacks.on_value(v);
   }
 
@@ -74,6 +77,7 @@ struct DomainObserver::Impl {
     w.device = d.device_uuid;
     w.description = true;
     w.last_ns = topics::realtime_ns();
+    w.alive = true;
     instances[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, ""};
     lost_devices.erase(d.device_uuid);
     {
@@ -107,20 +111,37 @@ struct DomainObserver::Impl {
     }
   }
 
+  // True while some writer of `device` has shown no loss since its last
+  // sign of life.
+  bool any_writer_alive(const std::string& device) const {
+    return std::any_of(writers.begin(), writers.end(),
+                       [&](const auto& w) { return w.second.device == device && w.second.alive; });
+  }
+
   void handle(detail::WriterLivelinessEvent& e) {
-    if (e.alive) return;  // values resume with the next sample
     const auto it = writers.find(e.writer);
     if (it == writers.end()) return;
-    // An unmatched writer is gone at once; a lease expiry must be due.
-    if (!e.unmatched &&
-        detail::expiry_is_premature(it->second.last_ns, topics::realtime_ns(), options.timing)) {
+    WriterInfo& w = it->second;
+    if (e.alive) {
+      // Back (a process resumed after SIGSTOP, a link up again): the losses
+      // reported before are over, so the next ones are reported again.
+      // Values resume with the next sample.
+      w.alive = true;
+      lost_devices.erase(w.device);
+      for (const auto& item : w.items) lost_items.erase({w.device, item});
       return;
     }
-    if (it->second.description) {
-      device_lost(it->second.device);
-    } else {
-      items_lost(it->second.device, it->second.items);
+    // An unmatched writer is gone at once; a lease expiry must be due.
+    if (!e.unmatched &&
+        detail::expiry_is_premature(w.last_ns, topics::realtime_ns(), options.timing)) {
+      return;
     }
+    w.alive = false;
+    if (!w.description) items_lost(w.device, w.items);
+    // A device whose announcement writer is lost, or whose every writer is
+    // (its announcement writer does not regain liveliness until it writes
+    // again), is gone.
+    if (w.description || !any_writer_alive(w.device)) device_lost(w.device);
   }
   void handle(detail::InstanceGoneEvent& e) { instance_lost(e.topic, e.instance); }
   void handle(detail::DeadlineMissedEvent& e) { instance_lost(e.topic, e.instance); }

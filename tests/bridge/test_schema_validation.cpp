@@ -12,16 +12,13 @@
 //   UNAVAILABLE: OPEN is missing (a typo in the official file), so a 1.6
 //   document with an open door fails on exactly that value.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "bridge_test_util.hpp"
+#include "xmllint.hpp"
 
 namespace mtc::bridge {
 namespace {
@@ -31,37 +28,9 @@ using test::value;
 
 constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
 
-struct Lint {
-  int exit_code = -1;
-  std::string output;
-};
-
-Lint xmllint(const std::string& body, const std::string& schema) {
-  static int counter = 0;
-  const fs::path dir =
-      fs::temp_directory_path() / ("mtc_bridge_schema_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const fs::path doc = dir / ("doc" + std::to_string(++counter) + ".xml");
-  const fs::path out = dir / ("out" + std::to_string(counter) + ".txt");
-  std::ofstream(doc) << body;
-  const std::string cmd = std::string(MTC_XMLLINT) + " --noout --schema '" + schema + "' '" +
-                          doc.string() + "' > '" + out.string() + "' 2>&1";
-  Lint lint;
-  const int rc = std::system(cmd.c_str());
-  lint.exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  std::ifstream in(out);
-  std::ostringstream text;
-  text << in.rdbuf();
-  lint.output = text.str();
-  std::error_code ignored;
-  fs::remove(doc, ignored);
-  fs::remove(out, ignored);
-  return lint;
-}
-
-std::string schema(const char* kind, SchemaVersion v) {
-  return std::string(MTC_SCHEMA_DIR) + "/" + kind + "_" + std::string(to_string(v)) + "_1.0.xsd";
-}
+using test::Lint;
+using test::schema;
+using test::xmllint;
 
 class SchemaValidation : public ::testing::TestWithParam<SchemaVersion> {
  protected:

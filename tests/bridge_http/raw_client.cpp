@@ -72,10 +72,24 @@ std::optional<HttpResponse> take_head(std::string& buffer) {
 
 }  // namespace
 
-RawClient::RawClient(std::uint16_t port) {
+RawClient::RawClient(std::uint16_t port, const ConnectOptions& options) {
   fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
   if (fd_ < 0) {
     throw std::runtime_error(std::string("socket: ") + std::generic_category().message(errno));
+  }
+  if (options.receive_buffer > 0) {
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &options.receive_buffer,
+                 sizeof options.receive_buffer);
+  }
+  if (options.source != nullptr) {
+    sockaddr_in source{};
+    source.sin_family = AF_INET;
+    if (::inet_pton(AF_INET, options.source, &source.sin_addr) != 1 ||
+        ::bind(fd_, reinterpret_cast<sockaddr*>(&source), sizeof source) != 0) {
+      const std::string message = std::generic_category().message(errno);
+      ::close(fd_);
+      throw std::runtime_error(std::string("bind ") + options.source + ": " + message);
+    }
   }
   sockaddr_in address{};
   address.sin_family = AF_INET;

@@ -33,9 +33,20 @@ struct Part {
   std::string body;
 };
 
+// How an abusive client connects.
+struct ConnectOptions {
+  // Source address, e.g. "127.0.0.2": every 127/8 address is loopback, so
+  // tests can be several clients as the server counts them (per address).
+  const char* source = nullptr;
+  // SO_RCVBUF before connecting: a small window fills fast when the client
+  // never reads. 0: the kernel's default.
+  int receive_buffer = 0;
+};
+
 class RawClient {
  public:
-  explicit RawClient(std::uint16_t port);  // 127.0.0.1; throws on failure
+  // Connects to 127.0.0.1:port; throws on failure.
+  explicit RawClient(std::uint16_t port, const ConnectOptions& options = {});
   ~RawClient();
   RawClient(const RawClient&) = delete;
   RawClient& operator=(const RawClient&) = delete;

@@ -90,7 +90,11 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "MaxConnections = 10\n"
       "HeaderTimeoutMs = 2000\n"
       "IdleTimeoutMs = 3000\n"
-      "WriteTimeoutMs = 4000");
+      "WriteTimeoutMs = 4000\n"
+      "MaxConnectionsPerClient = 8\n"
+      "MaxPendingBytes = 1048576\n"
+      "MaxDocumentBytes = 65536\n"
+      "PathMaxVisits = 50000");
   EXPECT_EQ(config.agent.devices_file, "/etc/mtc/Devices.xml");
   EXPECT_EQ(config.server.bind_address, "::1");
   EXPECT_EQ(config.server.port, 5001);
@@ -108,6 +112,10 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
   EXPECT_EQ(config.server.header_timeout, 2000ms);
   EXPECT_EQ(config.server.idle_timeout, 3000ms);
   EXPECT_EQ(config.server.write_timeout, 4000ms);
+  EXPECT_EQ(config.server.max_connections_per_client, 8U);
+  EXPECT_EQ(config.server.max_pending_bytes, 1048576U);
+  EXPECT_EQ(config.agent.max_document_bytes, 65536U);
+  EXPECT_EQ(config.agent.path_limits.max_visits, 50000.0);
 }
 
 struct Malformed {
@@ -141,6 +149,10 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"\n\nPort = 1\nPort = 2", "agent.cfg:4: Port is already set on line 3"},
         Malformed{"BufferSize = 0", "agent.cfg:1: BufferSize (exponent) must be"},
         Malformed{"BufferSize = 131072", "agent.cfg:1: BufferSize (exponent) must be"},
+        // 2^30 observations would end in std::bad_alloc: refused by name.
+        Malformed{"BufferSize = 30",
+                  "agent.cfg:1: BufferSize (exponent) must be an integer "
+                  "from 1 to 24, not '30'"},
         Malformed{"SchemaVersion = 2", "agent.cfg:1: SchemaVersion must be one of"},
         Malformed{"SchemaVersion = 7.0", "agent.cfg:1: SchemaVersion"},
         Malformed{"SchemaVersion = 1.4", "agent.cfg:1: SchemaVersion"},
@@ -159,13 +171,72 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"Transport = udp", "agent.cfg:1: Transport must be loopback"},
         Malformed{"StreamHeartbeatMs = 5", "agent.cfg:1: StreamHeartbeatMs"},
         Malformed{"MaxConnections = 0", "agent.cfg:1: MaxConnections"},
+        Malformed{"MaxPendingBytes = 1000", "agent.cfg:1: MaxPendingBytes must be an integer"},
+        Malformed{"PathMaxVisits = 1e6", "agent.cfg:1: PathMaxVisits must be an integer"},
         Malformed{"HeaderTimeoutMs = 10s", "agent.cfg:1: HeaderTimeoutMs"},
-        Malformed{"Adapters {\n  A { Host = x }\n}", "agent.cfg:1: blocks"},
-        Malformed{"# ok\nAllowPut = true", "agent.cfg:2: unknown key 'AllowPut'"},
+        Malformed{"Agents {\n  A { Host = x }\n}", "agent.cfg:1: unknown block 'Agents'"},
+        Malformed{"Port = 1\nAdapters {\n  A { Host = x }\n",
+                  "agent.cfg:2: block 'Adapters' is never closed"},
+        Malformed{"Port = 1 }", "agent.cfg:1: unexpected '}'"},
+        Malformed{"# ok\nAllowPutt = true", "agent.cfg:2: unknown key 'AllowPutt'"},
         Malformed{"Sender = a\x01z", "agent.cfg:1: Sender contains control"}),
     [](const ::testing::TestParamInfo<Malformed>& param_info) {
       return mtc::test::param_name(param_info.index, param_info.param.text);
     });
+
+// An integrator reuses the reference agent's agent.cfg: what mtc-bridge
+// does not use is skipped with a warning naming the line, the rest applies.
+TEST(BridgeConfig, ReferenceAgentKeysAndBlocksAreAcceptedWithAWarning) {
+  BridgeConfig config;
+  const auto warnings = parse_config_text(config,
+                                          "PidFile = /var/run/agent.pid\n"
+                                          "Port = 5001\n"
+                                          "AllowPut = true\n"
+                                          "Adapters {\n"
+                                          "  Mazak {\n"
+                                          "    Host = 10.0.0.2  # { in a comment\n"
+                                          "    Port = 7878\n"
+                                          "  }\n"
+                                          "}\n"
+                                          "logger_config { logging_level = debug }\n"
+                                          "BufferSize = 16\n",
+                                          "agent.cfg");
+  EXPECT_EQ(config.server.port, 5001);  // the adapter's Port is not the bridge's
+  EXPECT_EQ(config.agent.buffer_size, 65536U);
+  ASSERT_EQ(warnings.size(), 4U);
+  EXPECT_EQ(warnings[0],
+            "agent.cfg:1: PidFile is a key of the reference agent that mtc-bridge does not use; "
+            "ignored");
+  EXPECT_EQ(warnings[1].rfind("agent.cfg:3: AllowPut", 0), 0U) << warnings[1];
+  EXPECT_EQ(warnings[2].rfind("agent.cfg:4: block 'Adapters'", 0), 0U) << warnings[2];
+  EXPECT_EQ(warnings[3].rfind("agent.cfg:10: block 'logger_config'", 0), 0U) << warnings[3];
+}
+
+TEST(BridgeConfig, EndlessHugeAndDirectoryFilesAreClearErrors) {
+  BridgeConfig config;
+  const std::string huge = ::testing::TempDir() + "bridge_huge_agent.cfg";
+  {
+    std::ofstream out(huge);
+    for (std::size_t i = 0; i * 20 <= kMaxConfigBytes; ++i) out << "# padding comment ..\n";
+  }
+  const std::string too_large =
+      "config file is larger than " + std::to_string(kMaxConfigBytes) + " bytes";
+  for (const std::string& path : {std::string("/dev/zero"), huge}) {
+    try {
+      load_config_file(config, path);
+      ADD_FAILURE() << path << " accepted";
+    } catch (const ConfigError& error) {
+      EXPECT_EQ(std::string(error.what()), path + ": " + too_large);
+    }
+  }
+  std::remove(huge.c_str());
+  try {
+    load_config_file(config, ::testing::TempDir());
+    ADD_FAILURE() << "a directory accepted";
+  } catch (const ConfigError& error) {
+    EXPECT_NE(std::string(error.what()).find("config file is a directory"), std::string::npos);
+  }
+}
 
 TEST(BridgeConfig, BinaryDataIsRejected) {
   EXPECT_NE(error_of(std::string("Port = 5\0\x7f\n", 10)).find("agent.cfg:1: binary data"),
@@ -178,7 +249,8 @@ TEST(BridgeConfig, MissingFileIsAClearError) {
     load_config_file(config, "/nonexistent/agent.cfg");
     FAIL() << "no error";
   } catch (const ConfigError& error) {
-    EXPECT_STREQ(error.what(), "/nonexistent/agent.cfg: cannot open config file");
+    EXPECT_STREQ(error.what(),
+                 "/nonexistent/agent.cfg: cannot open config file: No such file or directory");
   }
 }
 

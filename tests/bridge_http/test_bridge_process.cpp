@@ -1,6 +1,7 @@
 // The mtc-bridge executable as an operator runs it: exit codes, signals,
 // and end to end from a DDS writer to /current.
-// DDS domains: 80 end-to-end, 81 process lifecycle (see CMakeLists.txt).
+// DDS domains: 80 end-to-end, 81 process lifecycle, 82 repeated losses (see
+// CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -124,6 +125,66 @@ TEST(BridgeProcess, ConfigurationErrorsExitTwoNamingTheProblem) {
   std::remove(bad.c_str());
 }
 
+// Files an attacker or an accident hands the bridge: each is refused at
+// once with exit code 2 and a message naming the file (and the line).
+TEST(BridgeProcess, HostileFilesExitTwoNamingFileAndLine) {
+  const auto not_xml = write_temp("bridge_not_xml.xml", "Devices = cell.xml\n");
+  const auto bomb = write_temp("bridge_bomb.xml",
+                               "<?xml version='1.0'?>\n<!DOCTYPE d [<!ENTITY a 'aaaa'>\n"
+                               "<!ENTITY b '&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;'>]>\n"
+                               "<MTConnectDevices><Devices/></MTConnectDevices>\n");
+  std::string deep = "<MTConnectDevices><Devices><Device id='d' name='n' uuid='u'>\n";
+  for (int i = 0; i < 20000; ++i) deep += "<Components><Axes id='c" + std::to_string(i) + "'>";
+  for (int i = 0; i < 20000; ++i) deep += "</Axes></Components>";
+  deep += "</Device></Devices></MTConnectDevices>\n";
+  const auto nested = write_temp("bridge_nested.xml", deep);
+  const auto duplicate =
+      write_temp("bridge_duplicate.xml",
+                 "<MTConnectDevices><Devices>\n<Device id='a' name='mill' uuid='u'/>\n"
+                 "<Device id='b' name='lathe' uuid='u'/>\n</Devices></MTConnectDevices>\n");
+  const auto buffer = write_temp("bridge_buffer.cfg", "DomainIds = 81\nBufferSize = 30\n");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"--devices", not_xml}, not_xml + ":2: not well-formed XML"},
+      {{"--devices", bomb}, bomb + ":2: DOCTYPE"},
+      {{"--devices", nested}, nested + ":2: elements nested deeper than 64"},
+      {{"--devices", duplicate}, duplicate + ":3: duplicate device uuid 'u'"},
+      {{"--devices", "/dev/zero"}, "/dev/zero:0: the Devices file is larger than"},
+      {{"--config", "/dev/zero"}, "/dev/zero: config file is larger than"},
+      {{"--config", buffer}, buffer + ":2: BufferSize (exponent) must be an integer from 1 to 24"},
+  };
+  for (const auto& [args, message] : cases) {
+    std::vector<std::string> line = args;
+    line.insert(line.end(), {"--port", "0", "--domain-ids", "81"});
+    if (args[0] == "--config") line.resize(2);  // the file is the point
+    std::string err;
+    EXPECT_EQ(exit_code_of(line, &err), 2) << args[1];
+    EXPECT_NE(err.find(message), std::string::npos) << err;
+  }
+  for (const auto& path : {not_xml, bomb, nested, duplicate, buffer}) std::remove(path.c_str());
+}
+
+// An integrator's agent.cfg from the reference agent runs as it is; what
+// the bridge does not use is named on stderr.
+TEST(BridgeProcess, AReferenceAgentCfgRunsWithWarnings) {
+  const auto cfg = write_temp("bridge_reference.cfg",
+                              "PidFile = /tmp/agent.pid\nDomainIds = 81\nAllowPut = true\n"
+                              "Adapters {\n  Mazak {\n    Port = 7878\n  }\n}\n");
+  RunningBridge bridge({"--config", cfg});
+  ASSERT_NE(bridge.port(), 0);
+  const auto probe = bridge.get("/probe");
+  ASSERT_TRUE(probe);
+  EXPECT_EQ(probe->status, 200);
+  bridge.process().send_signal(SIGTERM);
+  EXPECT_EQ(bridge.process().wait_exit(std::chrono::seconds(10)), 0);  // all stderr read
+  const std::string err = bridge.process().stderr_text();
+  EXPECT_NE(err.find("warning: " + cfg +
+                     ":1: PidFile is a key of the reference agent that mtc-bridge does not use"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find(cfg + ":4: block 'Adapters'"), std::string::npos) << err;
+  std::remove(cfg.c_str());
+}
+
 TEST(BridgeProcess, ServesThenStopsCleanlyOnSigterm) {
   RunningBridge bridge({"--domain-ids", "81"});
   ASSERT_NE(bridge.port(), 0);
@@ -199,6 +260,47 @@ TEST(BridgeEndToEnd, TransitionAndLivelinessLossReachCurrent) {
   options.faults.outage->store(true);  // the cable is pulled
   EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "UNAVAILABLE"; },
                          std::chrono::seconds(10)));
+}
+
+// A device frozen (every datagram dropped, as SIGSTOP would) three times:
+// its Availability reads UNAVAILABLE on each loss, not only on the first,
+// and AVAILABLE again each time it comes back.
+TEST(BridgeEndToEnd, AvailabilityFollowsEveryLoss) {
+  RunningBridge bridge({"--domain-ids", "82", "--heartbeat-ms", "100"});
+  ASSERT_NE(bridge.port(), 0);
+  dds::EquipmentOptions options;
+  options.domain_id = 82;
+  options.device_uuid = "frozen-robot";
+  options.transport = qos::Transport::LoopbackTest;
+  options.faults.outage = std::make_shared<std::atomic<bool>>(false);
+  dds::Equipment robot(options);
+  robot.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
+  robot.add_responder("mh1", core::Service::MaterialLoad, dds::ResponderCallbacks{});
+  robot.start();
+
+  // The announced device's AVAILABILITY item (model_from_announcements).
+  const std::string availability = "frozen-robot_avail";
+  const std::string item = "mh1_material_load_response";
+  ASSERT_TRUE(eventually([&] { return bridge.current_value(availability) == "AVAILABLE"; },
+                         std::chrono::seconds(15)))
+      << "'" << bridge.current_value(availability) << "'";
+  for (int freeze = 1; freeze <= 3; ++freeze) {
+    options.faults.outage->store(true);
+    EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "UNAVAILABLE"; },
+                           std::chrono::seconds(10)))
+        << "freeze " << freeze;
+    EXPECT_TRUE(eventually([&] { return bridge.current_value(availability) == "UNAVAILABLE"; },
+                           std::chrono::seconds(10)))
+        << "freeze " << freeze << ": Availability reads '" << bridge.current_value(availability)
+        << "' while " << item << " reads UNAVAILABLE";
+    options.faults.outage->store(false);
+    EXPECT_TRUE(eventually([&] { return bridge.current_value(availability) == "AVAILABLE"; },
+                           std::chrono::seconds(10)))
+        << "thaw " << freeze;
+    EXPECT_TRUE(
+        eventually([&] { return bridge.current_value(item) == "READY"; }, std::chrono::seconds(10)))
+        << "thaw " << freeze;
+  }
 }
 
 }  // namespace

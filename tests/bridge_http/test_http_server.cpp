@@ -268,26 +268,38 @@ TEST_F(ServerTest, HalfOpenClientsGetTheirAnswerAndAreReleased) {
   EXPECT_TRUE(eventually([&] { return server_->connection_count() == 0; }));
 }
 
-TEST_F(ServerTest, ConnectionLimitAnswers503AndRecovers) {
+// At the limit, a new connection takes the place of the one that has
+// waited longest without a request; only when every connection is busy
+// (here: streaming) is it answered 503, and that passes when one ends.
+TEST_F(ServerTest, ConnectionLimitMakesRoomFromWaitingConnectionsElse503) {
   auto options = test_options();
   options.max_connections = 4;
   restart(options);
   std::vector<std::unique_ptr<RawClient>> held;
   for (int i = 0; i < 4; ++i) {
     held.push_back(std::make_unique<RawClient>(port()));
+    ASSERT_TRUE(eventually([&] { return server_->connection_count() == held.size(); }));
   }
-  ASSERT_TRUE(eventually([&] { return server_->connection_count() == 4; }));
+  EXPECT_EQ(get("/probe").status, 200);
+  EXPECT_TRUE(held.front()->wait_closed());  // the oldest idle one made room
+  held.clear();
+  ASSERT_TRUE(eventually([&] { return server_->connection_count() == 0; }));
+
+  std::vector<std::unique_ptr<RawClient>> streams;
+  for (int i = 0; i < 4; ++i) {
+    streams.push_back(std::make_unique<RawClient>(port()));
+    streams.back()->send(get_request("/sample?interval=0&heartbeat=60000"));
+    ASSERT_TRUE(streams.back()->read_stream_head());
+  }
   RawClient extra(port());
   const auto refused = extra.read_response();
   ASSERT_TRUE(refused);
   EXPECT_EQ(refused->status, 503);
   EXPECT_TRUE(extra.wait_closed());
 
-  held.pop_back();
+  streams.pop_back();
   ASSERT_TRUE(eventually([&] { return server_->connection_count() == 3; }));
   EXPECT_EQ(get("/probe").status, 200);
-  held.front()->send(get_request("/probe"));
-  EXPECT_TRUE(held.front()->read_response());
 }
 
 TEST_F(ServerTest, ManyConcurrentClientsAllGetAnswers) {

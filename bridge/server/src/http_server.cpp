@@ -35,9 +35,21 @@ struct HttpServer::Impl {
     shared->options = std::move(options);
   }
 
+  // What becomes of a new connection: admitted or not, and the waiting
+  // connection closed to make room for it.
+  struct Admission {
+    bool admit = true;
+    std::shared_ptr<detail::Session> evict;
+  };
+
   void listen();
   void accept();
   void on_accept(const boost::system::error_code& ec, tcp::socket socket);
+  // Caller holds shared->mutex. Sessions it looks at are kept in `keep`,
+  // to be released after the mutex (a last reference would destroy a
+  // session, whose destructor takes the mutex).
+  Admission admit(const std::string& remote,
+                  std::vector<std::shared_ptr<detail::Session>>& keep) const;
 
   asio::io_context ioc;
   tcp::acceptor acceptor;
@@ -99,17 +111,32 @@ void HttpServer::Impl::on_accept(const boost::system::error_code& ec, tcp::socke
     });
     return;
   }
+  boost::system::error_code endpoint_ec;
+  const auto endpoint = socket.remote_endpoint(endpoint_ec);
+  const std::string remote = endpoint_ec ? std::string() : endpoint.address().to_string();
+  std::vector<std::shared_ptr<detail::Session>> keep;  // released after the lock
   std::shared_ptr<detail::Session> session;
-  bool busy = false;
+  Admission admission;
   {
     std::lock_guard<std::mutex> lock(shared->mutex);
-    busy = shared->sessions.size() >= shared->options.max_connections;
-    const std::uint64_t id = busy ? 0 : shared->next_id++;
-    session = std::make_shared<detail::Session>(std::move(socket), shared, id);
-    if (!busy) {
+    admission = admit(remote, keep);
+    if (admission.evict) shared->sessions.erase(admission.evict->id());
+    if (!admission.admit && shared->rejecting >= shared->options.max_connections) {
+      // Thousands at once: not even a 503 each. The socket closes here.
+      accept();
+      return;
+    }
+    if (!admission.admit) ++shared->rejecting;
+    const std::uint64_t id = admission.admit ? shared->next_id++ : 0;
+    session = std::make_shared<detail::Session>(std::move(socket), shared, id, remote);
+    if (admission.admit) {
       shared->sessions.emplace(id, session);
     }
   }
+  if (admission.evict) {
+    asio::post(admission.evict->executor(), [evicted = admission.evict] { evicted->evict(); });
+  }
+  const bool busy = !admission.admit;
   // Start on the connection's strand, not the acceptor's thread.
   auto executor = session->executor();
   asio::post(executor, [session, busy] {
@@ -120,6 +147,32 @@ void HttpServer::Impl::on_accept(const boost::system::error_code& ec, tcp::socke
     }
   });
   accept();
+}
+
+HttpServer::Impl::Admission HttpServer::Impl::admit(
+    const std::string& remote, std::vector<std::shared_ptr<detail::Session>>& keep) const {
+  const auto& options = shared->options;
+  std::size_t from_client = 0;
+  std::shared_ptr<detail::Session> oldest;            // waiting longest
+  std::shared_ptr<detail::Session> oldest_of_client;  // of those from `remote`
+  for (const auto& entry : shared->sessions) {
+    auto session = entry.second.lock();
+    if (!session) continue;
+    const bool same_client = session->remote() == remote;
+    from_client += same_client ? 1 : 0;
+    const std::int64_t since = session->waiting_since();
+    if (since != 0 && (!oldest || since < oldest->waiting_since())) oldest = session;
+    if (since != 0 && same_client &&
+        (!oldest_of_client || since < oldest_of_client->waiting_since())) {
+      oldest_of_client = session;
+    }
+    keep.push_back(std::move(session));
+  }
+  if (from_client >= options.max_connections_per_client) {
+    return {oldest_of_client != nullptr, oldest_of_client};
+  }
+  if (shared->sessions.size() >= options.max_connections) return {oldest != nullptr, oldest};
+  return {};
 }
 
 HttpServer::HttpServer(std::shared_ptr<Agent> agent, ServerOptions options)
@@ -187,6 +240,10 @@ std::uint16_t HttpServer::port() const noexcept {
 
 const std::string& HttpServer::bind_address() const noexcept {
   return impl_->shared->options.bind_address;
+}
+
+std::size_t HttpServer::pending_bytes() const noexcept {
+  return impl_->shared->pending_bytes.load();
 }
 
 std::size_t HttpServer::connection_count() const noexcept {

@@ -27,6 +27,19 @@ constexpr std::size_t kLingerLimit = std::size_t{64} * 1024;
 // Final boundary of a stream at shutdown: a client that does not take it
 // quickly is simply closed.
 constexpr std::chrono::milliseconds kStreamEndTimeout{1000};
+// Answers up to this size always go (errors, /current, /probe); larger ones
+// count against ServerOptions::max_pending_bytes.
+constexpr std::size_t kSmallAnswer = std::size_t{64} << 10;
+// A stream part held back by max_pending_bytes is tried again after this.
+constexpr std::chrono::milliseconds kPendingRetry{50};
+// An answer this large is freed once written: a keep-alive client that
+// took a large sample and stays connected must not keep its copy alive.
+constexpr std::size_t kLargeBody = std::size_t{1} << 20;
+
+std::int64_t steady_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch())
+      .count();
+}
 
 bool is_quiet_close(const beast::error_code& ec) {
   return ec == http::error::end_of_stream || ec == http::error::partial_message ||
@@ -67,8 +80,14 @@ struct Session::Stream {
   std::array<char, 256> sink{};  // client bytes while streaming, discarded
 };
 
-Session::Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::uint64_t id)
-    : shared_(std::move(shared)), id_(id), stream_(std::move(socket)) {
+Session::Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::uint64_t id,
+                 std::string remote)
+    : shared_(std::move(shared)),
+      id_(id),
+      remote_(std::move(remote)),
+      waiting_since_(steady_ns()),
+      first_deadline_(Clock::now() + shared_->options.header_timeout),
+      stream_(std::move(socket)) {
   beast::error_code ec;
   stream_.socket().set_option(tcp::no_delay(true), ec);  // best effort
   // A peer that vanished without FIN or RST (cable pulled, host down) would
@@ -84,8 +103,38 @@ Session::~Session() {
   if (stream_state_ && stream_state_->subscribed) {
     shared_->agent->unsubscribe(stream_state_->subscription);
   }
+  release_pending();
+  if (id_ == 0) {  // a connection answered 503 (HttpServer::Impl::on_accept)
+    --shared_->rejecting;
+    return;
+  }
   std::lock_guard<std::mutex> lock(shared_->mutex);
   shared_->sessions.erase(id_);
+}
+
+void Session::mark_waiting(bool waiting) {
+  waiting_since_ = waiting ? steady_ns() : 0;
+}
+
+bool Session::hold_pending(std::size_t bytes) {
+  const std::size_t before = shared_->pending_bytes.fetch_add(bytes);
+  if (bytes > kSmallAnswer && before + bytes > shared_->options.max_pending_bytes) {
+    shared_->pending_bytes.fetch_sub(bytes);
+    return false;
+  }
+  pending_ += bytes;
+  return true;
+}
+
+void Session::release_pending() {
+  if (pending_ == 0) return;
+  shared_->pending_bytes.fetch_sub(pending_);
+  pending_ = 0;
+  if (body_.capacity() >= kLargeBody) std::string().swap(body_);
+}
+
+void Session::evict() {
+  close();
 }
 
 void Session::start() {
@@ -104,7 +153,12 @@ void Session::wait_for_request() {
     return;
   }
   const auto& options = shared_->options;
-  stream_.expires_after(first_request_ ? options.header_timeout : options.idle_timeout);
+  if (first_request_) {
+    stream_.expires_at(first_deadline_);
+  } else {
+    mark_waiting(true);
+    stream_.expires_after(options.idle_timeout);
+  }
   stream_.async_read_some(buffer_.prepare(kReadChunk),
                           [self = shared_from_this()](beast::error_code ec, std::size_t bytes) {
                             if (ec) {
@@ -119,7 +173,11 @@ void Session::wait_for_request() {
 void Session::read_header() {
   parser_.emplace();
   parser_->header_limit(static_cast<std::uint32_t>(shared_->options.header_limit));
-  stream_.expires_after(shared_->options.header_timeout);
+  if (first_request_) {
+    stream_.expires_at(first_deadline_);
+  } else {
+    stream_.expires_after(shared_->options.header_timeout);
+  }
   http::async_read_header(
       stream_, buffer_, *parser_,
       [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_header(ec); });
@@ -148,6 +206,7 @@ void Session::on_header(beast::error_code ec) {
 }
 
 void Session::handle_request() {
+  mark_waiting(false);
   const auto& message = parser_->get();
   version_ = message.version() == 10 ? 10 : 11;  // the parser admits no other
   const bool head_only = message.method() == http::verb::head;
@@ -195,6 +254,13 @@ void Session::answer(Response response, bool keep_alive, bool head_only) {
   if (head_only) {
     body_.clear();
   }
+  if (!hold_pending(head_.size() + body_.size())) {
+    // Clients that do not read hold enough already; this one may retry.
+    body_.clear();
+    answer_error(503, "INTERNAL_ERROR",
+                 "too many answers are waiting for their clients; try again later");
+    return;
+  }
 
   stream_.expires_after(shared_->options.write_timeout);
   const std::array<asio::const_buffer, 2> buffers{asio::buffer(head_), asio::buffer(body_)};
@@ -211,6 +277,7 @@ void Session::answer_error(int status, std::string_view code, std::string_view m
 }
 
 void Session::on_answered(beast::error_code ec, bool keep_alive) {
+  release_pending();
   if (ec) {
     close();
   } else if (keep_alive && !shared_->stopping) {
@@ -225,6 +292,7 @@ void Session::on_answered(beast::error_code ec, bool keep_alive) {
 void Session::linger_close() {
   if (!lingering_) {
     lingering_ = true;
+    waiting_since_ = 1;  // the first to make room for a new connection
     linger_deadline_ = Clock::now() + kLingerTimeout;
     beast::error_code ec;
     stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
@@ -256,6 +324,7 @@ void Session::close() {
     return;
   }
   closed_ = true;
+  release_pending();
   if (stream_state_) {
     stream_state_->timer.cancel();
     if (stream_state_->subscribed) {
@@ -385,7 +454,15 @@ void Session::arm_timer(Clock::time_point due) {
 
 void Session::write_part() {
   auto& state = *stream_state_;
+  const StreamPlan before = state.plan;
   Response part = shared_->agent->next_part(state.plan);
+  if (!hold_pending(part.body.size())) {
+    // Too much is waiting for clients: this part waits too, from where it
+    // started (the client may fall behind the buffer, then it is told).
+    state.plan = before;
+    arm_timer(Clock::now() + kPendingRetry);
+    return;
+  }
   // An error part (e.g. the client fell out of the buffer) ends the stream.
   state.stop_after_write = part.status != 200;
   body_ = std::move(part.body);
@@ -416,6 +493,7 @@ void Session::write_stream_end() {
 }
 
 void Session::on_part_written(beast::error_code ec, bool last) {
+  release_pending();
   auto& state = *stream_state_;
   state.writing = false;
   head_.clear();

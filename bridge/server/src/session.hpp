@@ -33,6 +33,11 @@ struct ServerShared {
   std::shared_ptr<Agent> agent;
   ServerOptions options;
   std::atomic<bool> stopping{false};
+  // Answer bytes on their way to clients (ServerOptions::max_pending_bytes).
+  std::atomic<std::size_t> pending_bytes{0};
+  // Connections being answered 503 (not in `sessions`); beyond
+  // max_connections more are closed without an answer.
+  std::atomic<std::size_t> rejecting{0};
 
   std::mutex mutex;  // guards sessions
   std::unordered_map<std::uint64_t, std::weak_ptr<Session>> sessions;
@@ -41,7 +46,9 @@ struct ServerShared {
 
 class Session : public std::enable_shared_from_this<Session> {
  public:
-  Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::uint64_t id);
+  // `remote`: the client's address, for the per-client limit.
+  Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::uint64_t id,
+          std::string remote);
   ~Session();
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
@@ -49,9 +56,16 @@ class Session : public std::enable_shared_from_this<Session> {
   void start();        // serve requests
   void reject_busy();  // answer 503 and close (over the connection limit)
   void shutdown();     // server stop: end a stream with its boundary, close
+  void evict();        // make room for a new connection: close
 
   // The connection's strand.
   asio::any_io_executor executor() { return stream_.get_executor(); }
+  const std::string& remote() const noexcept { return remote_; }
+  std::uint64_t id() const noexcept { return id_; }
+  // Since when (steady clock, ns) the connection waits for a request or the
+  // rest of one; 0 while one is being answered or streamed. Read under the
+  // server's mutex from the accepting thread.
+  std::int64_t waiting_since() const noexcept { return waiting_since_.load(); }
 
  private:
   struct Stream;
@@ -65,6 +79,11 @@ class Session : public std::enable_shared_from_this<Session> {
   void on_answered(beast::error_code ec, bool keep_alive);
   void linger_close();
   void close();
+  void mark_waiting(bool waiting);
+  // Counts an answer's bytes in ServerShared::pending_bytes until written;
+  // false (nothing counted) when a large one would pass the limit.
+  bool hold_pending(std::size_t bytes);
+  void release_pending();
 
   void start_stream(StreamPlan plan);
   void read_until_eof();
@@ -77,6 +96,10 @@ class Session : public std::enable_shared_from_this<Session> {
 
   std::shared_ptr<ServerShared> shared_;
   std::uint64_t id_;
+  std::string remote_;
+  std::atomic<std::int64_t> waiting_since_{0};
+  std::chrono::steady_clock::time_point first_deadline_;  // whole first header
+  std::size_t pending_ = 0;                               // this session's share of pending_bytes
   beast::tcp_stream stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::empty_body>> parser_;

@@ -20,6 +20,8 @@
 #include <vector>
 
 #include "mtc/bridge/model_error.hpp"
+#include "mtc/bridge/model_limits.hpp"
+#include "mtc/bridge/path_cost.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 
@@ -80,10 +82,15 @@ class DeviceModel {
   DeviceModel(DeviceModel&&) noexcept = default;
   DeviceModel& operator=(DeviceModel&&) noexcept = default;
 
-  // Parses a Devices file; throws ModelError (file, line, reason).
-  static DeviceModel from_file(const std::string& path, SlotRegistry& slots);
+  // Parses a Devices file; throws ModelError (file, line, reason). Refuses
+  // what `limits` excludes, DOCTYPE declarations (no entity can expand),
+  // text that XML forbids (invalid UTF-8, control characters), duplicate
+  // ids, and devices sharing a name or uuid.
+  static DeviceModel from_file(const std::string& path, SlotRegistry& slots,
+                               const ModelLimits& limits = {});
   // Parses Devices XML held in memory; `name` is used in error messages.
-  static DeviceModel from_text(std::string_view xml, const std::string& name, SlotRegistry& slots);
+  static DeviceModel from_text(std::string_view xml, const std::string& name, SlotRegistry& slots,
+                               const ModelLimits& limits = {});
   // One Device per announcement, in the order given. Interface types the
   // version's Devices schema lacks (1.3: bar feeder, material handler) are
   // left out, with their items.
@@ -123,9 +130,13 @@ class DeviceModel {
   // Data items (indexes, in model order) selected by an XPath over the
   // Devices tree: a DataItem node selects itself, any other element all
   // DataItems beneath it. `device` restricts the result to one device.
-  // Throws std::invalid_argument for a malformed expression.
-  std::vector<std::size_t> select(const std::string& xpath,
-                                  std::optional<std::size_t> device) const;
+  // Throws std::invalid_argument for a malformed expression and for one
+  // that `limits` refuses for this tree (estimate_path_cost), before
+  // evaluating it.
+  std::vector<std::size_t> select(const std::string& xpath, std::optional<std::size_t> device,
+                                  const PathLimits& limits = {}) const;
+  // The Devices tree's shape, for estimate_path_cost.
+  const TreeShape& shape() const noexcept { return shape_; }
   // All items of one device or of every device, in model order.
   std::vector<std::size_t> all_items(std::optional<std::size_t> device) const;
 
@@ -144,6 +155,7 @@ class DeviceModel {
   std::vector<bool> claimed_;  // items resolve_item() already gave away
   // Announcement models: XML id -> DDS item id where they differ.
   std::unordered_map<std::string, std::string> source_of_xml_id_;
+  TreeShape shape_;
 };
 
 // SlotRegistry key (item id) of an announced device's AVAILABILITY item.

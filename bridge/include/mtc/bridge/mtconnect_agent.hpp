@@ -27,10 +27,15 @@
 
 #include "mtc/bridge/agent.hpp"
 #include "mtc/bridge/model_error.hpp"
+#include "mtc/bridge/model_limits.hpp"
+#include "mtc/bridge/path_cost.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/core/observation.hpp"
 
 namespace mtc::bridge {
+
+// Largest AgentOptions::buffer_size: 2^24 observations, about 1 GiB.
+inline constexpr std::size_t kMaxBufferSize = std::size_t{1} << 24;
 
 struct AgentOptions {
   // MTConnect schema version of every document. Unset: the version of the
@@ -38,11 +43,17 @@ struct AgentOptions {
   // only version whose official Devices, Streams and Error schemas all
   // accept the four Part 5 interface types (docs/bridge.md).
   std::optional<SchemaVersion> schema_version;
-  // Observations kept for /sample. Any value >= 2 (not only powers of two).
+  // Observations kept for /sample. Any value from 2 to kMaxBufferSize (not
+  // only powers of two); each takes about 60 bytes, allocated at start.
   std::size_t buffer_size = 131072;
   // MTConnectDevices file mapped onto the DDS data items. Empty: the model is
   // built from the devices' DDS announcements and grows as they appear.
   std::string devices_file;
+  // What the Devices file may demand (size, nesting); see ModelLimits.
+  ModelLimits devices_limits;
+  // What a request's `path` XPath may cost (length, nesting, estimated node
+  // visits); a path over them is refused with INVALID_PATH before it runs.
+  PathLimits path_limits;
   // Header sender attribute.
   std::string sender = "mtc-bridge";
   // Header instanceId; 0 = seconds since the epoch at construction, so every
@@ -50,6 +61,11 @@ struct AgentOptions {
   std::uint64_t instance_id = 0;
   // Largest count a /sample may ask for; 0 = buffer_size.
   std::size_t max_count = 0;
+  // Largest /sample document, in bytes (estimated per observation before
+  // printing). A sample that would be larger stops short: its nextSequence
+  // tells the client where to go on, as for any sample. Bounds the memory
+  // each answer takes (the whole default buffer would print as ~25 MiB).
+  std::size_t max_document_bytes = std::size_t{4} << 20;
   // Observations a /sample returns when the request names no count, as
   // MTConnect agents do (never more than max_count).
   std::size_t default_count = 100;
@@ -97,8 +113,9 @@ class MtconnectAgent : public Agent {
 };
 
 // Builds the agent. Throws ModelError for an unusable Devices file and
-// std::invalid_argument for unusable options (buffer_size < 2,
-// default_count 0, stream_heartbeat not positive).
+// std::invalid_argument for unusable options (buffer_size outside
+// 2..kMaxBufferSize, default_count 0, stream_heartbeat not positive) and
+// for a buffer the machine cannot allocate (never std::bad_alloc).
 std::unique_ptr<MtconnectAgent> make_agent(const AgentOptions& options);
 
 }  // namespace mtc::bridge

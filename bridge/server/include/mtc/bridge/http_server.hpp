@@ -20,19 +20,38 @@
 
 namespace mtc::bridge {
 
+// The server's limits. Under abuse (slow or idle connections by the
+// thousand, clients that never read) they keep memory bounded and keep
+// well-behaved clients served: a connection that is only waiting (for its
+// first request, for the rest of a header, or idle between requests) is
+// closed, oldest first, to make room for a new one.
 struct ServerOptions {
   std::string bind_address = "127.0.0.1";  // loopback unless told otherwise
   std::uint16_t port = 5000;               // 0 = any free port (tests)
   unsigned io_threads = 1;
-  std::size_t max_connections = 256;  // more are answered 503 and closed
-  std::size_t header_limit = 8192;    // request line + headers, bytes
-  // A request's header must be complete this long after its first byte.
+  // Open connections. A new one beyond it takes the place of the one that
+  // has waited longest without a request in progress; when every one is
+  // busy (answering, streaming), it is answered 503 and closed.
+  std::size_t max_connections = 256;
+  // Open connections from one client address, so that a single host cannot
+  // take every place; beyond it, that host's longest-waiting connection
+  // makes room, or the new one is answered 503.
+  std::size_t max_connections_per_client = 64;
+  std::size_t header_limit = 8192;  // request line + headers, bytes
+  // A new connection must have sent its whole first request header this
+  // long after it was accepted; a later request's header must be complete
+  // this long after its first byte (1 byte a second gets nowhere).
   std::chrono::milliseconds header_timeout{10000};
   // A keep-alive connection with no new request is closed after this.
   std::chrono::milliseconds idle_timeout{30000};
   // A write (response or stream part) the client does not take in this
   // long closes the connection: a stalled reader cannot pin memory.
   std::chrono::milliseconds write_timeout{30000};
+  // Bytes of answers written to sockets and not yet taken by their
+  // clients, all connections together. An answer larger than 64 KiB that
+  // would go beyond it is replaced by a 503 (a stream's part waits), so
+  // clients that never read cannot pin more; small answers always go.
+  std::size_t max_pending_bytes = std::size_t{64} << 20;
   std::string server_name = "mtc-bridge";
 };
 
@@ -58,6 +77,8 @@ class HttpServer {
 
   // Connections open right now (tests, diagnostics).
   std::size_t connection_count() const noexcept;
+  // Answer bytes written and not yet taken by clients (max_pending_bytes).
+  std::size_t pending_bytes() const noexcept;
 
  private:
   struct Impl;
