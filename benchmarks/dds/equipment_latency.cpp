@@ -129,7 +129,7 @@ class Probe {
   // as it is, so no TransitionEvent: it is timed when the executor hands
   // the new value to the application, the same point in the pipeline.
   void on_value(const dds::ObservedValue& v) {
-    if (v.heartbeat_count != 0 || v.state.interaction() != core::InteractionState::Ready) {
+    if (v.redelivered || v.state.interaction() != core::InteractionState::Ready) {
       return;
     }
     const auto now = dds::detail::topics::realtime_ns();

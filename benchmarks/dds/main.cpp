@@ -184,8 +184,8 @@ std::string to_json(const Options& o, const std::vector<Series>& all) {
   json << "{\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"cores\":"
        << std::thread::hardware_concurrency() << ",\"samples\":" << o.samples
        << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds
-       << ",\"qos\":\"mtc.state preset: RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1, deadline and "
-          "MANUAL_BY_TOPIC liveliness per heartbeat; keyed InteractionSample\",\"series\":[";
+       << ",\"qos\":\"mtc.state preset: RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1, no deadline "
+          "(liveness is the heartbeat topic's); keyed InteractionSample\",\"series\":[";
   for (std::size_t i = 0; i < all.size(); ++i) {
     json << (i == 0 ? "\n  " : ",\n  ") << mtc::bench::to_json(all[i]);
   }
