@@ -46,6 +46,7 @@ struct PendingRequest {
 struct PublishedItem {
   std::string id;
   std::int64_t changed_ns = 0;  // source_time_ns of the current value
+  std::uint64_t seq = 0;        // change number of its newest write
 };
 
 struct ServiceSlot {
@@ -211,6 +212,11 @@ struct EquipmentImpl {
   void publish_doors_and_chucks(InterfaceSlot& itf, std::int64_t now_ns);
   void publish_description();
   void wrote(TimingGroup& g, detail::TopicKind topic, std::uint64_t seq);
+  // --- history span (equipment_history.cpp) ---
+  void bound_history(std::size_t group, detail::TopicKind topic);
+  template <typename Fn>
+  void for_each_item(std::size_t group, detail::TopicKind topic, Fn&& fn);
+  bool bounding_history = false;
   // Heartbeat thread: one heartbeat of group `index`.
   void write_heartbeat(std::size_t index);
   void start_heartbeats();

@@ -38,7 +38,7 @@ void fill_common(Sample& s, const std::string& device, const std::string& interf
 
 // A change bumps the writer's sequence number and stamps the item.
 void touch(PublishedItem& item, std::uint64_t& writer_seq, std::int64_t now_ns) {
-  ++writer_seq;
+  item.seq = ++writer_seq;
   item.changed_ns = now_ns;
 }
 
@@ -240,6 +240,7 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
   s.state(topics::to_idl(itf.model->machine(slot.service, slot.role)->state()));
   writer->write(s);
   wrote(g, request ? TopicKind::Request : TopicKind::Response, seq);
+  bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response);
 }
 
 void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, std::int64_t now_ns) {
@@ -250,6 +251,7 @@ void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, std::int64_t now
   s.state(topics::to_idl(itf.model->interface_state()));
   g.interface_writer->write(s);
   wrote(g, TopicKind::InterfaceState, g.interface_seq);
+  bound_history(itf.group, TopicKind::InterfaceState);
 }
 
 template <typename State>
@@ -264,6 +266,7 @@ void EquipmentImpl::publish_door_chuck(InterfaceSlot& itf, std::int64_t now_ns) 
   s.state(topics::to_idl(item.state));
   w.writer->write(s);
   wrote(g, detail::DoorChuck<State>::topic, w.seq);
+  bound_history(itf.group, detail::DoorChuck<State>::topic);
 }
 template void EquipmentImpl::publish_door_chuck<core::DoorState>(InterfaceSlot&, std::int64_t);
 template void EquipmentImpl::publish_door_chuck<core::ChuckState>(InterfaceSlot&, std::int64_t);
