@@ -46,6 +46,8 @@ struct Options {
   int missed = 3;
   int domain = 117;
   std::string transport = "loopback-udp";
+  int drop_percent = 0;   // both sides, Fast DDS test transport
+  int quiet_s = 0;        // healthy link watched for false alarms, per timing
   std::string max_ratio;  // empty: no bound on the exit code
   std::string out;
   // Internal: the child process.
@@ -60,8 +62,9 @@ constexpr const char* kAbout =
     "at the default timing (100 ms x 3) and at --short-heartbeat-ms x --missed; the child\n"
     "restarts under the same uuid each round. JSON on stdout (and in --out): p50/p99/max\n"
     "per series against lease + 25 %, false alarms. Exit 1 on a false alarm, an undetected\n"
-    "loss, or a detection over --max-ratio leases. Runs inside the loopback-only namespace\n"
-    "(scripts/netns-run.sh).";
+    "loss, or a detection over --max-ratio leases. --drop-percent loses that share of DATA\n"
+    "submessages in both directions; --quiet-seconds first watches a healthy link for false\n"
+    "alarms. Runs inside the loopback-only namespace (scripts/netns-run.sh).";
 
 std::optional<int> parse_args(int argc, char** argv, Options& o) {
   mtc::bench::Cli cli("mtc-bench-detection", kAbout);
@@ -72,6 +75,10 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .integer("--domain", o.domain, 0, 232, "DDS domain id")
       .choice("--transport", o.transport, {"loopback", "loopback-udp"},
               "loopback = SHM + UDP; loopback-udp leaves no SHM segments behind killed children")
+      .integer("--drop-percent", o.drop_percent, 0, 90,
+               "DATA submessages dropped by both sides (Fast DDS test transport over UDP)")
+      .integer("--quiet-seconds", o.quiet_s, 0, 3600,
+               "per timing, first watch a healthy link this long and count false alarms")
       .text("--max-ratio", "R", o.max_ratio, "exit 1 when a detection exceeds R x the lease")
       .text("--out", "FILE", o.out, "also write the JSON summary there")
       .internal_options_follow()
@@ -83,8 +90,14 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
 const char* kWatcher = "det-watcher";
 const char* kResponder = "det-responder";
 
-mtc::qos::Transport transport_of(const std::string& name) {
-  return name == "loopback" ? mtc::qos::Transport::Loopback : mtc::qos::Transport::LoopbackUdp;
+void set_transport(const Options& o, mtc::dds::EquipmentOptions& eo) {
+  if (o.drop_percent > 0) {
+    eo.transport = mtc::qos::Transport::LoopbackTest;
+    eo.faults.drop_data_percent = static_cast<std::uint8_t>(o.drop_percent);
+    return;
+  }
+  eo.transport =
+      o.transport == "loopback" ? mtc::qos::Transport::Loopback : mtc::qos::Transport::LoopbackUdp;
 }
 
 mtc::qos::Timing timing(int heartbeat_ms, int missed) {
@@ -100,7 +113,7 @@ int run_child(const Options& o) {
   mtc::dds::EquipmentOptions eo;
   eo.domain_id = o.domain;
   eo.device_uuid = kResponder;
-  eo.transport = transport_of(o.transport);
+  set_transport(o, eo);
   eo.timing = timing(o.child_heartbeat_ms, o.missed);
   mtc::dds::Equipment eq(eo);
   eq.add_interface({"mh1", mtc::core::InterfaceType::MaterialHandler, "", {kWatcher, "mh1"}});
@@ -188,7 +201,9 @@ pid_t spawn_child(const Options& o, int heartbeat_ms) {
                                          "--domain",
                                          std::to_string(o.domain),
                                          "--transport",
-                                         o.transport};
+                                         o.transport,
+                                         "--drop-percent",
+                                         std::to_string(o.drop_percent)};
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -206,6 +221,24 @@ void reap(pid_t pid) {
   waitpid(pid, &status, 0);
 }
 
+// A healthy link for --quiet-seconds: every loss reported meanwhile is a
+// false alarm (LinkWatch counts it). False when the child never came up.
+bool watch_quietly(const Options& o, LinkWatch& watch, int heartbeat_ms, int missed) {
+  const pid_t child = spawn_child(o, heartbeat_ms);
+  if (child < 0 || !watch.wait_up(std::chrono::seconds(30))) {
+    if (child > 0) reap(child);
+    return false;
+  }
+  const int before = watch.false_alarms();
+  std::this_thread::sleep_for(std::chrono::seconds(o.quiet_s));  // the observation window
+  std::cerr << "  " << heartbeat_ms << " ms x " << missed << "  quiet " << o.quiet_s << " s at "
+            << o.drop_percent << " % loss: " << watch.false_alarms() - before << " false alarms\n";
+  watch.arm();  // the loss the reap causes is not a false alarm
+  reap(child);
+  watch.wait_lost(std::chrono::seconds(10));
+  return true;
+}
+
 // One timing: a watcher for all its rounds, a child per round. Returns the
 // false alarms seen, or -1 when a child never came up.
 int run_timing(const Options& o, int heartbeat_ms, int missed, std::vector<Series>& out,
@@ -214,7 +247,7 @@ int run_timing(const Options& o, int heartbeat_ms, int missed, std::vector<Serie
   mtc::dds::EquipmentOptions eo;
   eo.domain_id = o.domain;
   eo.device_uuid = kWatcher;
-  eo.transport = transport_of(o.transport);
+  set_transport(o, eo);
   eo.timing = timing(heartbeat_ms, missed);
   mtc::dds::EquipmentCallbacks cb;
   cb.on_link = [&watch](const mtc::dds::LinkEvent& e) { watch.on_link(e); };
@@ -227,6 +260,7 @@ int run_timing(const Options& o, int heartbeat_ms, int missed, std::vector<Serie
   Series kill_series{heartbeat_ms, missed, SIGKILL, {}, 0};
   Series stop_series{heartbeat_ms, missed, SIGSTOP, {}, 0};
   std::uniform_int_distribution<int> phase_us(0, heartbeat_ms * 1000 - 1);
+  if (o.quiet_s > 0 && !watch_quietly(o, watch, heartbeat_ms, missed)) return -1;
   for (int round = 0; round < 2 * o.rounds; ++round) {
     auto& series = round % 2 == 0 ? kill_series : stop_series;
     const pid_t child = spawn_child(o, heartbeat_ms);
@@ -316,8 +350,10 @@ int main(int argc, char** argv) {
   }
   bool pass = false_alarms == 0;
   std::ostringstream json;
-  json << "{\"benchmark\":\"detection\",\"transport\":\"" << o.transport
-       << "\",\"rounds\":" << o.rounds << ",\"false_alarms\":" << false_alarms << ",\"series\":[";
+  json << "{\"benchmark\":\"detection\",\"transport\":\""
+       << (o.drop_percent > 0 ? "test" : o.transport) << "\",\"drop_percent\":" << o.drop_percent
+       << ",\"quiet_seconds\":" << o.quiet_s << ",\"rounds\":" << o.rounds
+       << ",\"false_alarms\":" << false_alarms << ",\"series\":[";
   for (std::size_t i = 0; i < series.size(); ++i) {
     const auto& s = series[i];
     json << (i ? "," : "") << series_json(s, max_ratio);

@@ -11,8 +11,9 @@
 //               both CLOCK_REALTIME on one host).
 //   handshake:  request() called until the requester has seen the response
 //               back at READY: Table 1 steps 1-8, both sides READY.
-// The responder runs in this process (two participants, intra-process
-// delivery) or in a forked peer process over SHM+UDP or UDP only.
+// The responder runs in this process (two participants; the runtime turns
+// Fast DDS intra-process delivery off, so they talk through the transport)
+// or in a forked peer process over SHM+UDP or UDP only.
 #include "equipment_latency.hpp"
 
 #include <signal.h>

@@ -23,6 +23,7 @@
 
 #include "equipment_latency.hpp"
 #include "mtc/bench/cli.hpp"
+#include "mtc/qos/participant.hpp"
 #include "raw_pingpong.hpp"
 
 namespace {
@@ -143,6 +144,10 @@ Series run_raw(const Options& o, Transport t, int processes, int domain) {
             << " process(es), " << o.samples << " samples\n";
   Series s;
   if (processes == 1) {
+    // Raw endpoints of one process talk intra-process, as Fast DDS does by
+    // default; an mtc series of the same run has turned it off (the
+    // runtime does, see mtc::dds::detail::deliver_through_transports).
+    mtc::qos::set_intraprocess_delivery(true);
     std::atomic<bool> stop{false};
     std::thread ponger([&] {
       try {

@@ -184,6 +184,7 @@ int run_responder(const Options& o, Shared& shared) {
     shared.responder.started.store(-1);
     return 1;
   }
+  publish_traffic(*eq, shared.responder);  // its start-up writes before any sample
   shared.responder.started.store(1);
   // Publishes its traffic for the parent's samples until told to stop.
   const timespec period{0, 200 * 1000 * 1000};
