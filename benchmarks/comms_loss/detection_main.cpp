@@ -46,9 +46,10 @@ struct Options {
   int missed = 3;
   int domain = 117;
   std::string transport = "loopback-udp";
-  int drop_percent = 0;   // both sides, Fast DDS test transport
-  int quiet_s = 0;        // healthy link watched for false alarms, per timing
-  std::string max_ratio;  // empty: no bound on the exit code
+  int drop_percent = 0;         // both sides, Fast DDS test transport: every n-th
+  int random_drop_percent = 0;  // both sides, each DATA at random
+  int quiet_s = 0;              // healthy link watched for false alarms, per timing
+  std::string max_ratio;        // empty: no bound on the exit code
   std::string out;
   // Internal: the child process.
   bool child = false;
@@ -76,7 +77,9 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .choice("--transport", o.transport, {"loopback", "loopback-udp"},
               "loopback = SHM + UDP; loopback-udp leaves no SHM segments behind killed children")
       .integer("--drop-percent", o.drop_percent, 0, 90,
-               "DATA submessages dropped by both sides (Fast DDS test transport over UDP)")
+               "DATA submessages dropped by both sides, every n-th (Fast DDS test transport)")
+      .integer("--random-drop-percent", o.random_drop_percent, 0, 90,
+               "DATA submessages dropped by both sides at random (bursts happen)")
       .integer("--quiet-seconds", o.quiet_s, 0, 3600,
                "per timing, first watch a healthy link this long and count false alarms")
       .text("--max-ratio", "R", o.max_ratio, "exit 1 when a detection exceeds R x the lease")
@@ -91,9 +94,10 @@ const char* kWatcher = "det-watcher";
 const char* kResponder = "det-responder";
 
 void set_transport(const Options& o, mtc::dds::EquipmentOptions& eo) {
-  if (o.drop_percent > 0) {
+  if (o.drop_percent > 0 || o.random_drop_percent > 0) {
     eo.transport = mtc::qos::Transport::LoopbackTest;
     eo.faults.drop_data_percent = static_cast<std::uint8_t>(o.drop_percent);
+    eo.faults.random_drop_data_percent = static_cast<std::uint8_t>(o.random_drop_percent);
     return;
   }
   eo.transport =
@@ -203,7 +207,9 @@ pid_t spawn_child(const Options& o, int heartbeat_ms) {
                                          "--transport",
                                          o.transport,
                                          "--drop-percent",
-                                         std::to_string(o.drop_percent)};
+                                         std::to_string(o.drop_percent),
+                                         "--random-drop-percent",
+                                         std::to_string(o.random_drop_percent)};
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -232,7 +238,8 @@ bool watch_quietly(const Options& o, LinkWatch& watch, int heartbeat_ms, int mis
   const int before = watch.false_alarms();
   std::this_thread::sleep_for(std::chrono::seconds(o.quiet_s));  // the observation window
   std::cerr << "  " << heartbeat_ms << " ms x " << missed << "  quiet " << o.quiet_s << " s at "
-            << o.drop_percent << " % loss: " << watch.false_alarms() - before << " false alarms\n";
+            << o.drop_percent + o.random_drop_percent
+            << " % loss: " << watch.false_alarms() - before << " false alarms\n";
   watch.arm();  // the loss the reap causes is not a false alarm
   reap(child);
   watch.wait_lost(std::chrono::seconds(10));
@@ -351,9 +358,10 @@ int main(int argc, char** argv) {
   bool pass = false_alarms == 0;
   std::ostringstream json;
   json << "{\"benchmark\":\"detection\",\"transport\":\""
-       << (o.drop_percent > 0 ? "test" : o.transport) << "\",\"drop_percent\":" << o.drop_percent
-       << ",\"quiet_seconds\":" << o.quiet_s << ",\"rounds\":" << o.rounds
-       << ",\"false_alarms\":" << false_alarms << ",\"series\":[";
+       << (o.drop_percent + o.random_drop_percent > 0 ? "test" : o.transport)
+       << "\",\"drop_percent\":" << o.drop_percent
+       << ",\"random_drop_percent\":" << o.random_drop_percent << ",\"quiet_seconds\":" << o.quiet_s
+       << ",\"rounds\":" << o.rounds << ",\"false_alarms\":" << false_alarms << ",\"series\":[";
   for (std::size_t i = 0; i < series.size(); ++i) {
     const auto& s = series[i];
     json << (i ? "," : "") << series_json(s, max_ratio);
