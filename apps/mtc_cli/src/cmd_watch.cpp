@@ -47,6 +47,11 @@ class WatchPrinter {
       previous = slot.empty() ? "-" : slot;
       slot = text;
     }
+    // The same value again (a device writes an unchanged item again to keep
+    // its writer's history short): not a transition.
+    if (previous == text) {
+      return;
+    }
     const std::int64_t latency = v.reception_time_ns - v.source_time_ns;
     if (json_) {
       JsonLine line;

@@ -41,7 +41,9 @@ struct DomainObserverCallbacks {
   std::function<void(const ObservedDevice&)> on_device;
   // Each change of a data item; after a loss, the last known value again
   // (ObservedValue::redelivered) once its device's heartbeats are back and
-  // every change they announce has arrived.
+  // every change they announce has arrived. An item unchanged for long may
+  // also arrive again with the same value (its device keeps its writer's
+  // history short).
   std::function<void(const ObservedValue&)> on_value;
   // The heartbeats that vouch for these data items stopped (or their device
   // disposed them, or left): their values must now read UNAVAILABLE.

@@ -169,8 +169,10 @@ struct EquipmentCallbacks {
   // Every value of a paired counterpart (interaction items, INTERFACE_STATE,
   // DOOR_STATE, CHUCK_STATE): each change as it arrives, and after a loss of
   // communication the last known values again once the counterpart's
-  // heartbeats are back (redelivered = true). Heartbeats themselves are not
-  // values.
+  // heartbeats are back (redelivered = true). A device also writes an item
+  // that has not changed for a long while again (same value and source
+  // time, new sequence number; see docs/heartbeat.md). Heartbeats themselves
+  // are not values.
   std::function<void(const ObservedValue&)> on_counterpart_value;
   // Diagnostics: incompatible QoS offered by a peer, callback exceptions,
   // heartbeats withheld by the watchdog, announced changes not received.
