@@ -371,9 +371,7 @@ class EquipmentLink : public Link {
 
   void note_value(const dds::ObservedValue& v) {
     if (v.kind() == dds::ItemKind::Interaction) {
-      if (v.heartbeat_count == 0) {
-        shared_.touch();  // a change: waits re-check
-      }
+      shared_.touch();  // a change (or the last value after a loss): waits re-check
       return;
     }
     if (v.kind() != dds::ItemKind::DoorState && v.kind() != dds::ItemKind::ChuckState) {

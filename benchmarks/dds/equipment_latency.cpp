@@ -11,8 +11,9 @@
 //               both CLOCK_REALTIME on one host).
 //   handshake:  request() called until the requester has seen the response
 //               back at READY: Table 1 steps 1-8, both sides READY.
-// The responder runs in this process (two participants, intra-process
-// delivery) or in a forked peer process over SHM+UDP or UDP only.
+// The responder runs in this process (two participants; the runtime turns
+// Fast DDS intra-process delivery off, so they talk through the transport)
+// or in a forked peer process over SHM+UDP or UDP only.
 #include "equipment_latency.hpp"
 
 #include <signal.h>
@@ -129,7 +130,7 @@ class Probe {
   // as it is, so no TransitionEvent: it is timed when the executor hands
   // the new value to the application, the same point in the pipeline.
   void on_value(const dds::ObservedValue& v) {
-    if (v.heartbeat_count != 0 || v.state.interaction() != core::InteractionState::Ready) {
+    if (v.redelivered || v.state.interaction() != core::InteractionState::Ready) {
       return;
     }
     const auto now = dds::detail::topics::realtime_ns();

@@ -54,7 +54,7 @@ class Endpoint {
            const char* read_topic) {
     // The project's own presets: the participant QoS of its loopback
     // transports and the QoS of its state topics (RELIABLE, TRANSIENT_LOCAL,
-    // KEEP_LAST 1, DEADLINE/liveliness per heartbeat; see mtc/qos/presets.hpp).
+    // KEEP_LAST 1, changes only; see mtc/qos/presets.hpp).
     mtc::qos::ParticipantConfig pc;
     pc.name = name;
     pc.transport = options.transport == Transport::ShmUdp ? mtc::qos::Transport::Loopback

@@ -3,7 +3,9 @@
 // each with a MATERIAL_LOAD requester; a forked child runs the counterpart
 // with the matching responders. Nothing is requested: both only heartbeat
 // (the default 100 ms x 3). Every --interval seconds both processes are
-// sampled (CPU, RSS, open fds, threads, DDS values received per second).
+// sampled (CPU, RSS, open fds, threads, counterpart values handed to the
+// application and DDS samples written and received per second, heartbeats
+// included).
 // Prints progress on stderr and one JSON object on stdout (and to --out);
 // benchmarks/endurance/plot.py draws it. Exit 1 when the CPU of the last
 // window exceeds --cpu-ratio times the first, a link was lost, or a process
@@ -56,7 +58,8 @@ constexpr const char* kAbout =
     "An equipment with N MATERIAL_HANDLER interfaces (a MATERIAL_LOAD requester each) and,\n"
     "in a forked child, its counterpart with the responders, idling at the default 100 ms x 3\n"
     "heartbeat. Once every link is up, both processes are sampled every interval (CPU, RSS,\n"
-    "open fds, threads, DDS values received per second). Progress and figures on stderr,\n"
+    "open fds, threads, values delivered and DDS samples written / received per second,\n"
+    "heartbeats included). Progress and figures on stderr,\n"
     "one JSON object on stdout (and in --out); benchmarks/endurance/plot.py draws it.\n"
     "Exit 1 when the CPU of the last window exceeds --cpu-ratio x the first, a link was\n"
     "lost or a process died. Runs inside the loopback-only namespace (scripts/netns-run.sh).";
@@ -91,7 +94,10 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
 // anonymous shared mapping made before the fork; lock-free atomics are
 // address-free, so they work across processes).
 struct SideCounters {
-  std::atomic<std::uint64_t> values{0};  // counterpart values, heartbeats included
+  std::atomic<std::uint64_t> values{0};  // counterpart values handed to the application
+  // Equipment::traffic(), copied by the side itself (state + heartbeat samples).
+  std::atomic<std::uint64_t> samples_received{0};
+  std::atomic<std::uint64_t> samples_written{0};
   std::atomic<std::int32_t> links_up{0};
   std::atomic<std::uint32_t> lost{0};
   std::atomic<std::int32_t> started{0};  // 1 started, -1 failed to start
@@ -149,6 +155,16 @@ std::unique_ptr<mtc::dds::Equipment> make_side(const Options& o, bool requester,
   return eq;
 }
 
+void publish_traffic(const mtc::dds::Equipment& eq, SideCounters& counters) {
+  const auto t = eq.traffic();
+  counters.samples_received.store(t.values_received + t.heartbeats_received);
+  counters.samples_written.store(t.values_written + t.heartbeats_written);
+}
+
+mtc::bench::DdsCounts counts_of(const SideCounters& c) {
+  return {c.values.load(), c.samples_received.load(), c.samples_written.load()};
+}
+
 // The forked child: the responder side until SIGTERM (or the parent's
 // death). SIGINT stays blocked: Ctrl-C is the parent's to handle, which
 // stops the child once it has its figures.
@@ -168,9 +184,13 @@ int run_responder(const Options& o, Shared& shared) {
     shared.responder.started.store(-1);
     return 1;
   }
+  publish_traffic(*eq, shared.responder);  // its start-up writes before any sample
   shared.responder.started.store(1);
-  int sig = 0;
-  sigwait(&stop_signals, &sig);
+  // Publishes its traffic for the parent's samples until told to stop.
+  const timespec period{0, 200 * 1000 * 1000};
+  while (sigtimedwait(&stop_signals, nullptr, &period) < 0) {
+    publish_traffic(*eq, shared.responder);
+  }
   eq.reset();  // leaves the domain before the process ends
   return 0;
 }
@@ -210,10 +230,22 @@ std::string or_dash(std::optional<double> value, int decimals = 1) {
   return value ? json_number(value, decimals) : "-";
 }
 
+// The 1-minute load average: CPU figures of a busy machine are noisy.
+std::optional<double> load_average() {
+  double one = 0;
+  std::ifstream in("/proc/loadavg");
+  if (!(in >> one)) {
+    return std::nullopt;
+  }
+  return one;
+}
+
 struct Measured {
   ProcSeries requester;
   ProcSeries responder;
   double setup_s = 0;
+  std::optional<double> load_start{};
+  std::optional<double> load_end{};
   std::uint32_t lost_during[2] = {0, 0};
   std::string ended = "duration reached";
   bool lived = true;
@@ -221,7 +253,8 @@ struct Measured {
 
 // Samples both processes every interval until the duration, a stop signal
 // or the child's death.
-void measure(const Options& o, const Shared& shared, const sigset_t& signals, Measured& m) {
+void measure(const Options& o, Shared& shared, const mtc::dds::Equipment& requester,
+             const sigset_t& signals, Measured& m) {
   const std::uint32_t lost0[2] = {shared.requester.lost.load(), shared.responder.lost.load()};
   const auto t0 = Clock::now();
   for (int k = 0;; ++k) {
@@ -237,8 +270,9 @@ void measure(const Options& o, const Shared& shared, const sigset_t& signals, Me
       break;
     }
     const double t = std::chrono::duration<double>(Clock::now() - t0).count();
-    m.requester.sample(t, shared.requester.values.load());
-    if (!m.responder.sample(t, shared.responder.values.load())) {
+    publish_traffic(requester, shared.requester);
+    m.requester.sample(t, counts_of(shared.requester));
+    if (!m.responder.sample(t, counts_of(shared.responder))) {
       m.ended = "the responder process is gone";
       m.lived = false;
       break;
@@ -246,9 +280,11 @@ void measure(const Options& o, const Shared& shared, const sigset_t& signals, Me
     const auto& a = m.requester.samples().back();
     const auto& b = m.responder.samples().back();
     std::cerr << "  " << static_cast<int>(t) << " s  requester " << or_dash(a.cpu_pct) << " % "
-              << a.reading.rss_kb / 1024 << " MiB, " << or_dash(a.values_per_s, 0)
-              << " values/s; responder " << or_dash(b.cpu_pct) << " % " << b.reading.rss_kb / 1024
-              << " MiB, " << or_dash(b.values_per_s, 0) << " values/s\n";
+              << a.reading.rss_kb / 1024 << " MiB, " << or_dash(a.samples_written_per_s, 0)
+              << " samples/s out, " << or_dash(a.samples_received_per_s, 0) << " in; responder "
+              << or_dash(b.cpu_pct) << " % " << b.reading.rss_kb / 1024 << " MiB, "
+              << or_dash(b.samples_written_per_s, 0) << " out, "
+              << or_dash(b.samples_received_per_s, 0) << " in\n";
     if (t >= o.duration_s - 0.5) {
       break;
     }
@@ -295,6 +331,8 @@ void write_json(std::ostream& out, const Options& o, const Measured& m) {
       << ",\"cpu_ratio_limit\":" << json_number(o.cpu_ratio, 2)
       << ",\"cores\":" << std::thread::hardware_concurrency() << ",\"domain\":" << o.domain
       << ",\"links_up_after_s\":" << json_number(m.setup_s, 2)
+      << ",\"load_average_start\":" << json_number(m.load_start, 2)
+      << ",\"load_average_end\":" << json_number(m.load_end, 2)
       << ",\"links_lost_while_measuring\":{\"requester\":" << m.lost_during[0]
       << ",\"responder\":" << m.lost_during[1] << "},\"ended\":\"" << m.ended
       << "\",\"processes\":[";
@@ -320,7 +358,9 @@ void print_figures(const Options& o, const Measured& m) {
               << json_number(s->first_window_pct(o.window_s), 2) << " %, last "
               << json_number(s->last_window_pct(o.window_s), 2) << " %; RSS " << a.rss_kb / 1024
               << " -> " << b.rss_kb / 1024 << " MiB; fds " << a.fds << " -> " << b.fds
-              << "; threads " << a.threads << " -> " << b.threads << "\n";
+              << "; threads " << a.threads << " -> " << b.threads << "; samples/s written "
+              << json_number(s->samples_written_per_s(), 1) << ", received "
+              << json_number(s->samples_received_per_s(), 1) << "\n";
   }
   for (const auto& v : verdicts(o, m)) {
     std::cerr << v.name << ": " << (v.pass ? "PASS" : "FAIL") << "  " << v.detail << "\n";
@@ -346,7 +386,9 @@ int run(const Options& o, Shared& shared, pid_t child, const sigset_t& signals) 
   m.setup_s = std::chrono::duration<double>(Clock::now() - setup_start).count();
   std::cerr << "mtc-bench-idle: " << o.interfaces << " links up after " << json_number(m.setup_s, 2)
             << " s; measuring " << o.duration_s << " s\n";
-  measure(o, shared, signals, m);
+  m.load_start = load_average();
+  measure(o, shared, *eq, signals, m);
+  m.load_end = load_average();
   kill(child, SIGTERM);
   eq.reset();
   int status = 0;

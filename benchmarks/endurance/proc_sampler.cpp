@@ -66,7 +66,7 @@ std::optional<ProcReading> read_proc(pid_t pid) {
   return r;
 }
 
-bool ProcSeries::sample(double t_s, std::uint64_t values_received) {
+bool ProcSeries::sample(double t_s, const DdsCounts& counts) {
   const auto reading = read_proc(pid_);
   if (!reading) {
     return false;
@@ -74,15 +74,41 @@ bool ProcSeries::sample(double t_s, std::uint64_t values_received) {
   ProcSample s;
   s.t_s = t_s;
   s.reading = *reading;
-  s.values_received = values_received;
+  s.counts = counts;
   if (!samples_.empty() && t_s > samples_.back().t_s) {
     const ProcSample& prev = samples_.back();
     const double span = t_s - prev.t_s;
+    const auto rate = [span](std::uint64_t now, std::uint64_t before) {
+      return static_cast<double>(now - before) / span;
+    };
     s.cpu_pct = 100.0 * (reading->cpu_s - prev.reading.cpu_s) / span;
-    s.values_per_s = static_cast<double>(values_received - prev.values_received) / span;
+    s.values_per_s = rate(counts.values, prev.counts.values);
+    s.samples_received_per_s = rate(counts.samples_received, prev.counts.samples_received);
+    s.samples_written_per_s = rate(counts.samples_written, prev.counts.samples_written);
   }
   samples_.push_back(s);
   return true;
+}
+
+namespace {
+
+std::optional<double> mean_rate(const std::vector<ProcSample>& samples,
+                                std::uint64_t DdsCounts::*field) {
+  if (samples.size() < 2 || samples.back().t_s <= samples.front().t_s) {
+    return std::nullopt;
+  }
+  return static_cast<double>(samples.back().counts.*field - samples.front().counts.*field) /
+         (samples.back().t_s - samples.front().t_s);
+}
+
+}  // namespace
+
+std::optional<double> ProcSeries::samples_written_per_s() const {
+  return mean_rate(samples_, &DdsCounts::samples_written);
+}
+
+std::optional<double> ProcSeries::samples_received_per_s() const {
+  return mean_rate(samples_, &DdsCounts::samples_received);
 }
 
 std::optional<double> ProcSeries::cpu_pct_between(double start_s, double end_s) const {
@@ -148,8 +174,12 @@ void ProcSeries::write_json(std::ostream& out, double window_s) const {
         << ",\"cpu_s\":" << json_number(s.reading.cpu_s)
         << ",\"cpu_pct\":" << json_number(s.cpu_pct) << ",\"rss_kb\":" << s.reading.rss_kb
         << ",\"fds\":" << s.reading.fds << ",\"threads\":" << s.reading.threads
-        << ",\"values_received\":" << s.values_received
-        << ",\"values_per_s\":" << json_number(s.values_per_s, 1) << "}";
+        << ",\"values_received\":" << s.counts.values
+        << ",\"values_per_s\":" << json_number(s.values_per_s, 1)
+        << ",\"samples_received\":" << s.counts.samples_received
+        << ",\"samples_received_per_s\":" << json_number(s.samples_received_per_s, 1)
+        << ",\"samples_written\":" << s.counts.samples_written
+        << ",\"samples_written_per_s\":" << json_number(s.samples_written_per_s, 1) << "}";
   }
   out << "]";
   const auto first = first_window_pct(window_s);
@@ -160,7 +190,9 @@ void ProcSeries::write_json(std::ostream& out, double window_s) const {
   }
   out << ",\"cpu_first_window_pct\":" << json_number(first)
       << ",\"cpu_last_window_pct\":" << json_number(last)
-      << ",\"cpu_ratio_last_to_first\":" << json_number(ratio);
+      << ",\"cpu_ratio_last_to_first\":" << json_number(ratio)
+      << ",\"samples_written_per_s\":" << json_number(samples_written_per_s(), 1)
+      << ",\"samples_received_per_s\":" << json_number(samples_received_per_s(), 1);
   if (!samples_.empty()) {
     write_figures_json(out, window_s);
   }

@@ -24,12 +24,22 @@ struct ProcReading {
 // Nothing when the process is gone (or /proc cannot be read).
 std::optional<ProcReading> read_proc(pid_t pid);
 
+// What one process's DDS side has done, cumulative.
+struct DdsCounts {
+  std::uint64_t values = 0;            // counterpart values handed to the application
+  std::uint64_t samples_received = 0;  // samples its readers took (state + heartbeat)
+  std::uint64_t samples_written = 0;   // samples it wrote (state + heartbeat)
+};
+
 struct ProcSample {
   double t_s = 0;  // seconds since the run's start
   ProcReading reading;
-  std::optional<double> cpu_pct;       // over the interval since the previous sample
-  std::optional<double> values_per_s;  // DDS values received over that interval
-  std::uint64_t values_received = 0;   // cumulative
+  std::optional<double> cpu_pct;  // over the interval since the previous sample
+  DdsCounts counts;
+  // Over the interval since the previous sample.
+  std::optional<double> values_per_s;
+  std::optional<double> samples_received_per_s;
+  std::optional<double> samples_written_per_s;
 };
 
 class ProcSeries {
@@ -37,7 +47,10 @@ class ProcSeries {
   ProcSeries(std::string name, pid_t pid) : name_(std::move(name)), pid_(pid) {}
 
   // Takes one sample; false when the process is gone.
-  bool sample(double t_s, std::uint64_t values_received);
+  bool sample(double t_s, const DdsCounts& counts);
+  // Mean rates from the first sample to the last (nothing without two).
+  std::optional<double> samples_written_per_s() const;
+  std::optional<double> samples_received_per_s() const;
 
   // CPU (% of one core) from the first sample at or after `start_s` to the
   // last at or before `end_s`; nothing without two such samples.

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 
 #include "domain_tap.hpp"
@@ -12,6 +13,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
+#include "peer_groups.hpp"
 
 namespace mtc::dds {
 
@@ -22,13 +24,22 @@ using detail::TopicKind;
 
 namespace {
 
+// A state or announcement writer: only its departure says anything (their
+// liveliness lease is infinite; heartbeats carry liveness).
 struct WriterInfo {
   std::string device;
   bool description = false;
   std::set<std::string> items;
-  std::int64_t last_ns = 0;  // last reception from this writer
-  bool alive = true;         // no loss reported since its last sign of life
 };
+
+// The last value of one data item and which incarnation of its device wrote
+// it (a restarted device's old values are never handed over again).
+struct LastValue {
+  ObservedValue value;
+  detail::ParticipantKey participant{};
+};
+
+using ItemKey = std::pair<std::string, std::string>;  // (device, data item id)
 
 }  // namespace
 
@@ -38,9 +49,16 @@ struct DomainObserver::Impl {
 
   // Dispatch-thread state.
   std::map<Handle, WriterInfo> writers;
-  std::map<std::pair<TopicKind, Handle>, std::pair<std::string, std::string>> instances;
-  std::set<std::pair<std::string, std::string>> lost_items;
+  std::map<std::pair<TopicKind, Handle>, ItemKey> instances;  // state and announcement
+  std::map<Handle, std::pair<std::string, std::uint32_t>> heartbeat_instances;
+  std::map<ItemKey, LastValue> last_values;
+  std::set<ItemKey> lost_items;
   std::set<std::string> lost_devices;
+  detail::PeerGroups peer_groups;
+  // The newest incarnation heard of each device: news of an earlier one
+  // (restarted under the same uuid; its participant outlives it by up to a
+  // participant lease) must not turn the current one's items UNAVAILABLE.
+  std::map<std::string, detail::ParticipantKey> incarnation;
 
   mutable std::mutex devices_mutex;
   std::map<std::string, ObservedDevice> devices;
@@ -62,11 +80,11 @@ struct DomainObserver::Impl {
     auto& w = writers[e.writer];
     w.device = v.device_uuid;
     w.items.insert(v.data_item_id);
-    w.last_ns = v.reception_time_ns;
-    w.alive = true;
     instances[{e.topic, e.instance}] = {v.device_uuid, v.data_item_id};
+    peer_groups.on_value(e.writer, e.topic, v);
+    incarnation[v.device_uuid] = detail::participant_of(e.writer);
+    last_values[{v.device_uuid, v.data_item_id}] = {v, detail::participant_of(e.writer)};
     lost_items.erase({v.device_uuid, v.data_item_id});
-    lost_devices.erase(v.device_uuid);  // it is back: its next loss counts
     if (callbacks.on_value) callbacks.on_value(v);
   }
 
@@ -76,15 +94,56 @@ struct DomainObserver::Impl {
     auto& w = writers[e.writer];
     w.device = d.device_uuid;
     w.description = true;
-    w.last_ns = topics::realtime_ns();
-    w.alive = true;
     instances[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, ""};
+    incarnation[d.device_uuid] = detail::participant_of(e.writer);
     lost_devices.erase(d.device_uuid);
     {
       std::lock_guard<std::mutex> lock(devices_mutex);
       devices[d.device_uuid] = d;
     }
     if (callbacks.on_device) callbacks.on_device(d);
+  }
+
+  // A heartbeat: its group is alive. A group that was lost gets its last
+  // known values handed over again, once every change the heartbeat
+  // announces has arrived (before that a remembered value may be stale).
+  void handle(detail::HeartbeatEvent& e) {
+    const auto& h = e.heartbeat;
+    if (!wanted(h.device_uuid)) return;
+    auto& group = peer_groups.on_heartbeat(e.writer, h);
+    heartbeat_instances[e.instance] = {h.device_uuid, h.group};
+    incarnation[h.device_uuid] = detail::participant_of(e.writer);
+    const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
+    const auto repair = std::chrono::nanoseconds(std::chrono::milliseconds(h.lease_ms)).count();
+    if (auto report = peer_groups.behind_report(key, h.reception_time_ns, repair)) {
+      std::cerr << "mtc::dds::DomainObserver: " << *report << '\n';
+    }
+    if (group.in_step()) recovered(key);
+    if (callbacks.on_heartbeat) callbacks.on_heartbeat(h);
+  }
+
+  void recovered(const detail::PeerGroupKey& key) {
+    if (key.group == 0 && lost_devices.erase(key.device) != 0 && callbacks.on_device) {
+      std::optional<ObservedDevice> device;
+      {
+        std::lock_guard<std::mutex> lock(devices_mutex);
+        if (const auto it = devices.find(key.device); it != devices.end()) device = it->second;
+      }
+      if (device) callbacks.on_device(*device);
+    }
+    for (auto it = lost_items.lower_bound({key.device, ""});
+         it != lost_items.end() && it->first == key.device;) {
+      const auto last = last_values.find(*it);
+      if (last == last_values.end() || last->second.value.heartbeat_group != key.group ||
+          last->second.participant != key.participant) {
+        ++it;
+        continue;
+      }
+      it = lost_items.erase(it);
+      auto v = last->second.value;
+      v.redelivered = true;
+      if (callbacks.on_value) callbacks.on_value(v);
+    }
   }
 
   void device_lost(const std::string& device) {
@@ -101,50 +160,97 @@ struct DomainObserver::Impl {
     if (!newly.empty() && callbacks.on_items_lost) callbacks.on_items_lost(device, newly);
   }
 
-  void instance_lost(TopicKind topic, const Handle& instance) {
-    const auto it = instances.find({topic, instance});
+  bool current(const std::string& device, const detail::ParticipantKey& writer_participant) const {
+    const auto it = incarnation.find(device);
+    return it == incarnation.end() || it->second == writer_participant;
+  }
+
+  // Items whose last value that incarnation wrote (all: any incarnation).
+  std::set<std::string> items_of(const std::string& device,
+                                 const std::optional<detail::ParticipantKey>& written_by,
+                                 std::optional<std::uint32_t> group) const {
+    std::set<std::string> items;
+    for (auto it = last_values.lower_bound({device, ""});
+         it != last_values.end() && it->first.first == device; ++it) {
+      if (written_by && it->second.participant != *written_by) continue;
+      if (group && it->second.value.heartbeat_group != *group) continue;
+      items.insert(it->first.second);
+    }
+    return items;
+  }
+
+  // Every item a group's heartbeat vouches for; the device itself with its
+  // own group (0).
+  void group_lost(const detail::PeerGroupKey& key) {
+    items_lost(key.device, items_of(key.device, key.participant, key.group));
+    if (key.group == 0 && current(key.device, key.participant)) device_lost(key.device);
+  }
+
+  void handle(detail::WriterLivelinessEvent& e) {
+    if (e.alive) return;  // heartbeats and values say when it is back
+    if (const auto* key = peer_groups.heartbeat_writer(e.writer)) {
+      heartbeat_writer_lost(e, *key);
+      return;
+    }
+    const auto it = writers.find(e.writer);
+    if (it == writers.end() || !e.unmatched) return;
+    const auto& device = it->second.device;
+    const auto writer_participant = detail::participant_of(e.writer);
+    if (it->second.description) {
+      if (current(device, writer_participant)) device_lost(device);
+    } else {
+      std::set<std::string> items;
+      for (const auto& item : items_of(device, writer_participant, std::nullopt)) {
+        if (it->second.items.count(item) != 0) items.insert(item);
+      }
+      items_lost(device, items);
+    }
+    writers.erase(it);
+  }
+
+  // A heartbeat writer's lease expired (checked against the silence rule
+  // with the device's own lease) or the writer went away (not checked).
+  void heartbeat_writer_lost(const detail::WriterLivelinessEvent& e,
+                             const detail::PeerGroupKey& key) {
+    const auto copy = key;
+    if (!e.unmatched) {
+      const auto* group = peer_groups.find(copy);
+      if (group == nullptr) return;
+      using std::chrono::milliseconds;
+      const auto& h = group->newest;
+      const auto lease = h.lease_ms != 0 ? milliseconds(h.lease_ms) : options.timing.lease();
+      const auto period = h.period_ms != 0 ? milliseconds(h.period_ms) : options.timing.heartbeat;
+      if (!detail::silent_for_a_lease(group->last_heartbeat_ns, topics::realtime_ns(), lease,
+                                      period)) {
+        return;
+      }
+    } else {
+      peer_groups.forget_writer(e.writer);
+    }
+    group_lost(copy);
+  }
+
+  void handle(detail::InstanceGoneEvent& e) {
+    if (e.topic == TopicKind::Heartbeat) {
+      // Disposed (a graceful leave) or no writer left: whichever
+      // incarnation wrote it last.
+      const auto it = heartbeat_instances.find(e.instance);
+      if (it == heartbeat_instances.end()) return;
+      const auto& device = it->second.first;
+      const auto now = incarnation.find(device);
+      if (now != incarnation.end()) group_lost({device, it->second.second, now->second});
+      return;
+    }
+    const auto it = instances.find({e.topic, e.instance});
     if (it == instances.end()) return;
-    if (topic == TopicKind::DeviceDescription) {
+    if (e.topic == TopicKind::DeviceDescription) {
       device_lost(it->second.first);
     } else {
       items_lost(it->second.first, {it->second.second});
     }
   }
-
-  // True while some writer of `device` has shown no loss since its last
-  // sign of life.
-  bool any_writer_alive(const std::string& device) const {
-    return std::any_of(writers.begin(), writers.end(),
-                       [&](const auto& w) { return w.second.device == device && w.second.alive; });
-  }
-
-  void handle(detail::WriterLivelinessEvent& e) {
-    const auto it = writers.find(e.writer);
-    if (it == writers.end()) return;
-    WriterInfo& w = it->second;
-    if (e.alive) {
-      // Back (a process resumed after SIGSTOP, a link up again): the losses
-      // reported before are over, so the next ones are reported again.
-      // Values resume with the next sample.
-      w.alive = true;
-      lost_devices.erase(w.device);
-      for (const auto& item : w.items) lost_items.erase({w.device, item});
-      return;
-    }
-    // An unmatched writer is gone at once; a lease expiry must be due.
-    if (!e.unmatched &&
-        detail::expiry_is_premature(w.last_ns, topics::realtime_ns(), options.timing)) {
-      return;
-    }
-    w.alive = false;
-    if (!w.description) items_lost(w.device, w.items);
-    // A device whose announcement writer is lost, or whose every writer is
-    // (its announcement writer does not regain liveliness until it writes
-    // again), is gone.
-    if (w.description || !any_writer_alive(w.device)) device_lost(w.device);
-  }
-  void handle(detail::InstanceGoneEvent& e) { instance_lost(e.topic, e.instance); }
-  void handle(detail::DeadlineMissedEvent& e) { instance_lost(e.topic, e.instance); }
+  // The observer requests no DEADLINE; a miss would be a cue, not a verdict.
+  void handle(detail::DeadlineMissedEvent&) {}
   void handle(detail::IncompatibleQosEvent& e) {
     std::cerr << "mtc::dds::DomainObserver: a writer on " << detail::topic_name(e.topic)
               << " offers QoS incompatible with the observer (policy id " << e.policy
@@ -172,6 +278,7 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   pc.name = "mtc-observer";
   pc.transport = options.transport;
   pc.timing = options.timing;
+  detail::deliver_through_transports();
   impl->participant = std::make_unique<Participant>(options.domain_id, qos::participant_qos(pc));
   impl->topics = std::make_unique<detail::TopicSet>(*impl->participant, options.timing);
   detail::TapConfig tc;

@@ -1,5 +1,6 @@
 #include "domain_tap.hpp"
 
+#include <atomic>
 #include <cstring>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
@@ -7,6 +8,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds::detail {
@@ -22,13 +24,13 @@ ObservedState observed_state(ItemKind kind, IdlValue value) {
 }
 
 ObservedValue base(std::string device, std::string item, std::string iface, std::uint64_t seq,
-                   std::uint64_t hb, std::int64_t t) {
+                   std::uint32_t group, std::int64_t t) {
   ObservedValue v;
   v.device_uuid = std::move(device);
   v.data_item_id = std::move(item);
   v.interface_id = std::move(iface);
   v.sequence_number = seq;
-  v.heartbeat_count = hb;
+  v.heartbeat_group = group;
   v.source_time_ns = t;
   v.reception_time_ns = topics::realtime_ns();
   return v;
@@ -37,7 +39,7 @@ ObservedValue base(std::string device, std::string item, std::string iface, std:
 ObservedValue observe(const idl::InteractionSample& s) {
   auto v =
       base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(),
-           s.sequence_number(), s.heartbeat_count(), s.source_time_ns());
+           s.sequence_number(), s.heartbeat_group(), s.source_time_ns());
   v.service = topics::from_idl(s.service());
   v.sub_type = topics::from_idl(s.sub_type());
   v.state = observed_state(ItemKind::Interaction, s.state());
@@ -60,16 +62,40 @@ template <typename StateSample>
 ObservedValue observe(const StateSample& s) {
   auto v =
       base(s.device_uuid().to_string(), s.data_item_id().to_string(), s.interface_id().to_string(),
-           s.sequence_number(), s.heartbeat_count(), s.source_time_ns());
+           s.sequence_number(), s.heartbeat_group(), s.source_time_ns());
   v.state = observed_state(kind_of(s), s.state());
   return v;
 }
+
+ObservedHeartbeat observe(const idl::Heartbeat& h) {
+  ObservedHeartbeat o;
+  o.device_uuid = h.device_uuid().to_string();
+  o.group = h.group();
+  o.period_ms = h.period_ms();
+  o.lease_ms = h.lease_ms();
+  o.beat = h.beat();
+  o.request_changes = h.request_changes();
+  o.response_changes = h.response_changes();
+  o.interface_state_changes = h.interface_state_changes();
+  o.door_state_changes = h.door_state_changes();
+  o.chuck_state_changes = h.chuck_state_changes();
+  o.source_time_ns = h.source_time_ns();
+  o.reception_time_ns = topics::realtime_ns();
+  return o;
+}
+
+// Relaxed counters of taken samples, shared by a tap's listeners.
+struct Counters {
+  std::atomic<std::uint64_t> values{0};
+  std::atomic<std::uint64_t> heartbeats{0};
+};
 
 // One listener per reader: copies samples and statuses into TapEvents.
 template <typename Sample>
 class TapListener final : public fdds::DataReaderListener {
  public:
-  TapListener(TopicKind kind, const TapSink& sink) : kind_(kind), sink_(sink) {}
+  TapListener(TopicKind kind, const TapSink& sink, Counters& counters)
+      : kind_(kind), sink_(sink), counters_(counters) {}
 
   void on_data_available(fdds::DataReader* reader) override {
     Sample sample;
@@ -111,7 +137,12 @@ class TapListener final : public fdds::DataReaderListener {
     if constexpr (std::is_same_v<Sample, idl::DeviceDescription>) {
       sink_(DeviceEvent{to_handle(info.publication_handle), to_handle(info.instance_handle),
                         to_observed(s)});
+    } else if constexpr (std::is_same_v<Sample, idl::Heartbeat>) {
+      counters_.heartbeats.fetch_add(1, std::memory_order_relaxed);
+      sink_(HeartbeatEvent{to_handle(info.publication_handle), to_handle(info.instance_handle),
+                           observe(s)});
     } else {
+      counters_.values.fetch_add(1, std::memory_order_relaxed);
       sink_(ValueEvent{kind_, to_handle(info.publication_handle), to_handle(info.instance_handle),
                        observe(s)});
     }
@@ -119,6 +150,7 @@ class TapListener final : public fdds::DataReaderListener {
 
   TopicKind kind_;
   const TapSink& sink_;
+  Counters& counters_;
 };
 
 template <typename PubSub>
@@ -132,6 +164,18 @@ std::string type_name() {
 Handle to_handle(const eprosima::fastrtps::rtps::InstanceHandle_t& h) noexcept {
   Handle out{};
   std::memcpy(out.data(), static_cast<const eprosima::fastrtps::rtps::octet*>(h.value), out.size());
+  return out;
+}
+
+void deliver_through_transports() {
+  qos::set_intraprocess_delivery(false);
+}
+
+// A publication handle is the writer's GUID: 12 bytes of participant prefix,
+// then 4 of entity id.
+ParticipantKey participant_of(const Handle& writer) noexcept {
+  ParticipantKey out{};
+  std::memcpy(out.data(), writer.data(), out.size());
   return out;
 }
 
@@ -168,6 +212,8 @@ const char* topic_name(TopicKind kind) noexcept {
       return topics::kChuckState;
     case TopicKind::DeviceDescription:
       return topics::kDeviceDescription;
+    case TopicKind::Heartbeat:
+      return topics::kHeartbeat;
   }
   return "";
 }
@@ -203,6 +249,10 @@ std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
       type = registered<idl::DeviceDescriptionPubSubType>(participant);
       return std::make_unique<Topic>(participant, topic_name(kind), type,
                                      qos::device_description_topic(timing).topic_qos());
+    case TopicKind::Heartbeat:
+      type = registered<idl::HeartbeatPubSubType>(participant);
+      return std::make_unique<Topic>(participant, topic_name(kind), type,
+                                     qos::heartbeat_topic(timing).topic_qos());
   }
   return std::make_unique<Topic>(participant, topic_name(kind), type,
                                  qos::state_topic(timing).topic_qos());
@@ -220,6 +270,7 @@ Topic& TopicSet::get(TopicKind kind) {
 
 struct DomainTap::Impl {
   TapSink sink;
+  Counters counters;
   std::array<std::unique_ptr<fdds::DataReaderListener>, kTopicKindCount> listeners;
   std::unique_ptr<Subscriber> subscriber;
   std::array<std::unique_ptr<Reader>, kTopicKindCount> readers;
@@ -227,29 +278,37 @@ struct DomainTap::Impl {
 
 namespace {
 
-std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const TapSink& sink) {
+std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const TapSink& sink,
+                                                        Counters& counters) {
   switch (kind) {
     case TopicKind::Request:
     case TopicKind::Response:
-      return std::make_unique<TapListener<idl::InteractionSample>>(kind, sink);
+      return std::make_unique<TapListener<idl::InteractionSample>>(kind, sink, counters);
     case TopicKind::InterfaceState:
-      return std::make_unique<TapListener<idl::InterfaceStateSample>>(kind, sink);
+      return std::make_unique<TapListener<idl::InterfaceStateSample>>(kind, sink, counters);
     case TopicKind::DoorState:
-      return std::make_unique<TapListener<idl::DoorStateSample>>(kind, sink);
+      return std::make_unique<TapListener<idl::DoorStateSample>>(kind, sink, counters);
     case TopicKind::ChuckState:
-      return std::make_unique<TapListener<idl::ChuckStateSample>>(kind, sink);
+      return std::make_unique<TapListener<idl::ChuckStateSample>>(kind, sink, counters);
     case TopicKind::DeviceDescription:
-      return std::make_unique<TapListener<idl::DeviceDescription>>(kind, sink);
+      return std::make_unique<TapListener<idl::DeviceDescription>>(kind, sink, counters);
+    case TopicKind::Heartbeat:
+      return std::make_unique<TapListener<idl::Heartbeat>>(kind, sink, counters);
   }
   return nullptr;
 }
 
 fdds::DataReaderQos reader_qos(TopicKind kind, const TapConfig& config) {
-  if (kind == TopicKind::DeviceDescription) {
-    return qos::device_description_topic(config.timing).reader_qos();
+  switch (kind) {
+    case TopicKind::DeviceDescription:
+      return qos::device_description_topic(config.timing).reader_qos();
+    case TopicKind::Heartbeat:
+      return config.observer ? qos::heartbeat_observer_topic(config.timing).reader_qos()
+                             : qos::heartbeat_topic(config.timing).reader_qos();
+    default:
+      return config.observer ? qos::state_observer_topic(config.timing).reader_qos()
+                             : qos::state_topic(config.timing).reader_qos();
   }
-  return config.observer ? qos::state_observer_topic(config.timing).reader_qos()
-                         : qos::state_topic(config.timing).reader_qos();
 }
 
 }  // namespace
@@ -264,10 +323,15 @@ DomainTap::DomainTap(Participant& participant, TopicSet& topics, const TapConfig
       continue;
     }
     const auto kind = static_cast<TopicKind>(i);
-    impl_->listeners[i] = make_listener(kind, impl_->sink);
+    impl_->listeners[i] = make_listener(kind, impl_->sink, impl_->counters);
     impl_->readers[i] = std::make_unique<Reader>(
         *impl_->subscriber, topics.get(kind), reader_qos(kind, config), impl_->listeners[i].get());
   }
+}
+
+TapCounts DomainTap::counts() const noexcept {
+  return {impl_->counters.values.load(std::memory_order_relaxed),
+          impl_->counters.heartbeats.load(std::memory_order_relaxed)};
 }
 
 DomainTap::~DomainTap() {

@@ -273,7 +273,7 @@ std::future<void> Equipment::set_interface_state(const std::string& interface_id
   return impl->run<void>([impl, itf, state] {
     const auto now = SteadyClock::now();
     const auto batch = itf->model->set_interface_state(state, now);
-    impl->publish_interface_state(*itf, false, topics::realtime_ns());
+    impl->publish_interface_state(*itf, topics::realtime_ns());
     impl->handle_batch(*itf, batch);
   });
 }
@@ -290,7 +290,7 @@ std::future<void> EquipmentImpl::set_door_chuck(const std::string& interface_id,
   return run<void>([this, itf, state] {
     itf->door_chuck_item<State>().state = state;
     detail::DoorChuck<State>::apply(itf->hook, state);
-    publish_door_chuck<State>(*itf, false, topics::realtime_ns());
+    publish_door_chuck<State>(*itf, topics::realtime_ns());
     handle_batch(*itf, itf->model->reevaluate(SteadyClock::now()));
   });
 }
@@ -348,6 +348,20 @@ const EquipmentOptions& Equipment::options() const noexcept {
 }
 bool Equipment::started() const noexcept {
   return impl_->started;
+}
+
+Traffic Equipment::traffic() const {
+  Traffic t;
+  t.values_written = impl_->values_written.load(std::memory_order_relaxed);
+  t.heartbeats_written = impl_->heartbeats_written.load(std::memory_order_relaxed);
+  if (!impl_->started) return t;
+  for (const auto& g : impl_->groups) {
+    if (!g->tap) continue;
+    const auto counts = g->tap->counts();
+    t.values_received += counts.values;
+    t.heartbeats_received += counts.heartbeats;
+  }
+  return t;
 }
 
 }  // namespace mtc::dds

@@ -1,6 +1,11 @@
 // Equipment: what the DDS readers saw, interpreted on the executor thread:
 // counterpart discovery and pairing, counterpart values fed to the machines,
-// and loss / return of communication (scenario 6).
+// and loss / return of communication (scenario 6). A counterpart interface
+// is alive while the heartbeat of its timing group arrives; its values come
+// as changes only, so after a loss the last known ones are fed again once
+// its heartbeats are back and nothing announced is missing.
+#include <algorithm>
+
 #include "equipment_impl.hpp"
 #include "mtc/dds/detail/topics.hpp"
 
@@ -14,6 +19,8 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
         using T = std::decay_t<decltype(e)>;
         if constexpr (std::is_same_v<T, detail::ValueEvent>) {
           on_value(group, e);
+        } else if constexpr (std::is_same_v<T, detail::HeartbeatEvent>) {
+          on_heartbeat(group, e);
         } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
           on_device(e);
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
@@ -57,7 +64,27 @@ bool EquipmentImpl::try_bind(InterfaceSlot& itf, const std::string& device,
     itf.cp_interface = interface_id;
   }
   set_link(itf, LinkState::Paired, "paired with " + device + "/" + interface_id);
+  replay_seen_values(itf);
   return true;
+}
+
+// The counterpart's values that arrived before the pairing, as if they
+// arrived now (INTERFACE_STATE first: it decides whether the link is up).
+void EquipmentImpl::replay_seen_values(InterfaceSlot& itf) {
+  std::vector<const SeenValue*> known;
+  for (auto it = seen_values.lower_bound({itf.cp_uuid, ""});
+       it != seen_values.end() && it->first.first == itf.cp_uuid; ++it) {
+    if (it->second.value.interface_id == itf.cp_interface) known.push_back(&it->second);
+  }
+  std::stable_partition(known.begin(), known.end(), [](const SeenValue* s) {
+    return s->value.kind() == ItemKind::InterfaceState;
+  });
+  for (const auto* s : known) {
+    note_counterpart_value(itf, s->writer, s->value);
+    if (s->value.state.interface_state() == core::InterfaceState::Unavailable) continue;
+    if (itf.link.load() != LinkState::Up) link_up(itf, "value received");
+    deliver(itf, s->value, false);
+  }
 }
 
 namespace {
@@ -84,8 +111,7 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
   const auto& d = e.device;
   if (d.device_uuid == options.device_uuid) return;
   writer_device[e.writer] = d.device_uuid;
-  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", ""};
-  writer_last_ns[e.writer] = topics::realtime_ns();
+  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "", 0};
   description_writers.insert(e.writer);
   for (auto& itf : interfaces) {
     if (itf->link.load() != LinkState::Unpaired) continue;
@@ -105,13 +131,13 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   auto& v = e.value;
   if (v.device_uuid == options.device_uuid) return;
   writer_device[e.writer] = v.device_uuid;
-  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id};
-  writer_last_ns[e.writer] = v.reception_time_ns;
+  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id, 0};
   writer_interfaces[e.writer].insert(v.interface_id);
+  peer_groups.on_value(e.writer, e.topic, v);
   // A change number that skips ahead means this writer changed something we
   // never saw (KEEP_LAST 1 replaced it before delivery, e.g. after a loss).
-  auto& last = writer_seq[e.writer];
-  // Heartbeats count too: they carry the writer's current change number.
+  // Per timing group: every group's readers see the sample.
+  auto& last = writer_seq[{group, e.writer}];
   const bool missed_change = last != 0 && v.sequence_number > last + 1;
   last = std::max(last, v.sequence_number);
 
@@ -128,19 +154,93 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
     }
     if (itf->cp_uuid != v.device_uuid || itf->cp_interface != v.interface_id) continue;
-    if (callbacks.on_counterpart_value) {
-      guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
-    }
+    note_counterpart_value(*itf, e.writer, v);
     if (v.state.interface_state() == core::InterfaceState::Unavailable) {
+      if (callbacks.on_counterpart_value) {
+        guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
+      }
       link_lost(*itf, "counterpart INTERFACE_STATE UNAVAILABLE");
       continue;
     }
-    itf->last_heard_ns = v.reception_time_ns;
     if (itf->link.load() != LinkState::Up) link_up(*itf, "value received");
-    if (v.kind() != ItemKind::Interaction || !v.service || !v.sub_type) continue;
-    const auto role =
-        *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
-    if (auto* slot = slot_for(*itf, *v.service, role)) feed_counterpart(*slot, v, missed_change);
+    deliver(*itf, v, missed_change);
+  }
+  // After the interfaces: a pairing above replays what was seen before.
+  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v};
+}
+
+// Remembers a counterpart value (the last of each item is fed again after a
+// loss) and which heartbeat vouches for it. A value of another incarnation
+// of the counterpart (restarted under the same uuid) voids what was known.
+void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
+                                           const ObservedValue& v) {
+  const auto key = detail::PeerGroups::key_of(writer, v.device_uuid, v.heartbeat_group);
+  if (!itf.cp_group || itf.cp_group->participant != key.participant) {
+    itf.cp_values.clear();
+    itf.cp_stale.clear();
+  }
+  itf.cp_group = key;
+  itf.cp_values[v.data_item_id] = v;
+  itf.cp_stale.erase(v.data_item_id);
+  itf.last_heard_ns = std::max(itf.last_heard_ns, v.reception_time_ns);
+}
+
+// Hands one counterpart value to the application and, for an interaction
+// item, to the machine of our opposite side.
+void EquipmentImpl::deliver(InterfaceSlot& itf, const ObservedValue& v, bool missed_change) {
+  if (callbacks.on_counterpart_value) {
+    guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
+  }
+  if (v.kind() != ItemKind::Interaction || !v.service || !v.sub_type) return;
+  const auto role =
+      *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
+  if (auto* slot = slot_for(itf, *v.service, role)) feed_counterpart(*slot, v, missed_change);
+}
+
+// A counterpart heartbeat: the link is alive. After a loss it comes back
+// with the heartbeat alone (nothing changed while it was gone), and the
+// machines get the last known values again, but only once every change
+// the heartbeat announces has arrived: until then a cached value may be
+// stale, and the change that replaces it is on its way.
+void EquipmentImpl::on_heartbeat(std::size_t group, detail::HeartbeatEvent& e) {
+  const auto& h = e.heartbeat;
+  if (h.device_uuid == options.device_uuid) return;
+  auto& pg = peer_groups.on_heartbeat(e.writer, h);
+  instance_item[{TopicKind::Heartbeat, e.instance}] = {h.device_uuid, "", "", h.group};
+  const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
+  const auto& timing = groups[group]->timing;
+  if (auto report = peer_groups.behind_report(key, h.reception_time_ns,
+                                              std::chrono::nanoseconds(timing.lease()).count())) {
+    diagnostic(*report);
+  }
+  for (auto& itf : interfaces) {
+    if (itf->group != group || !itf->cp_group || !(*itf->cp_group == key)) continue;
+    itf->last_heard_ns = std::max(itf->last_heard_ns, h.reception_time_ns);
+    if (!pg.in_step()) continue;
+    // A counterpart that declared its interface UNAVAILABLE stays lost
+    // however well it heartbeats.
+    const auto state = itf->cp_values.find(topics::interface_state_item_id(itf->cp_interface));
+    const bool unavailable =
+        state != itf->cp_values.end() &&
+        state->second.state.interface_state() == core::InterfaceState::Unavailable;
+    if (itf->link.load() == LinkState::Lost && !unavailable) {
+      link_up(*itf, "heartbeat resumed");
+    }
+    if (itf->link.load() == LinkState::Up) redeliver_stale(*itf);
+  }
+}
+
+// Feeds the machines the counterpart values they have not seen since the
+// link was lost (the machines took the loss as UNAVAILABLE).
+void EquipmentImpl::redeliver_stale(InterfaceSlot& itf) {
+  auto stale = std::move(itf.cp_stale);
+  itf.cp_stale.clear();
+  for (const auto& id : stale) {
+    const auto it = itf.cp_values.find(id);
+    if (it == itf.cp_values.end()) continue;
+    auto v = it->second;
+    v.redelivered = true;
+    deliver(itf, v, false);
   }
 }
 
@@ -184,44 +284,35 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
 }
 
 // A lease expiry for a writer heard from well within the lease is not a
-// loss (detail::expiry_is_premature); say so, since it explains a link that
+// loss (detail::silent_for_a_lease); say so, since it explains a link that
 // stays up.
 bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
                                    const std::string& what) {
   const auto now = topics::realtime_ns();
-  if (!detail::expiry_is_premature(last_ns, now, groups[group]->timing)) return false;
+  if (detail::silent_for_a_lease(last_ns, now, groups[group]->timing)) return false;
   diagnostic("ignored " + what + " after only " + std::to_string((now - last_ns) / 1000000) +
              " ms of silence");
   return true;
 }
 
-// A DEADLINE miss is a cue to check, not a verdict on the instance it names:
-// Fast DDS 2.9 keeps one timer per reader and reports whichever instance owns
-// it without re-checking that instance's deadline, an instance that stops
-// receiving samples (a departed writer's, one of a device we do not talk to)
-// re-fires every period forever, and a peer of another implementation may
-// hash keys differently from us (ours: mtc::idl::type_support). What makes a link
-// lost is its counterpart interface being silent for about a lease; every
-// item of an interface is re-published on each heartbeat, so its freshest
-// reception is the measure. Half a heartbeat of slack absorbs the gap
-// between the timer and the last reception of the instance that armed it.
+// A heartbeat DEADLINE miss is a cue to check, not a verdict on the instance
+// it names (see detail::silent_for_a_lease): each Up interface of the group
+// is lost when nothing of its counterpart (heartbeat or value) was heard for
+// about a lease.
 void EquipmentImpl::on_deadline_missed(std::size_t group) {
-  const auto& timing = groups[group]->timing;
-  const auto limit =
-      std::chrono::nanoseconds(timing.lease()) - std::chrono::nanoseconds(timing.heartbeat) / 2;
   const auto now = topics::realtime_ns();
   for (auto& itf : interfaces) {
     if (itf->group != group || itf->link.load() != LinkState::Up) continue;
-    const auto silence = std::chrono::nanoseconds(now - itf->last_heard_ns);
-    if (silence < limit) continue;
+    if (!detail::silent_for_a_lease(itf->last_heard_ns, now, groups[group]->timing)) continue;
     link_lost(*itf, "deadline missed: nothing heard for " +
-                        std::to_string(silence.count() / 1000000) + " ms");
+                        std::to_string((now - itf->last_heard_ns) / 1000000) + " ms");
   }
 }
 
 // Disposal or loss of every writer of an instance: the counterpart said so
 // itself, so no silence check applies (DEADLINE misses go through
-// on_deadline_missed instead).
+// on_deadline_missed instead). A heartbeat instance stands for every
+// interface its group vouches for.
 void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Handle& instance,
                             const char* cause) {
   const auto it = instance_item.find({topic, instance});
@@ -233,6 +324,10 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
     if (topic != TopicKind::DeviceDescription && itf->group != group) continue;
     if (topic == TopicKind::DeviceDescription) {
       link_lost(*itf, std::string("device announcement ") + cause);
+    } else if (topic == TopicKind::Heartbeat) {
+      if (itf->cp_group && itf->cp_group->group == owner.group) {
+        link_lost(*itf, std::string("heartbeat ") + cause);
+      }
     } else if (owner.interface_id == itf->cp_interface) {
       link_lost(*itf, owner.item + ": " + cause);
     }
@@ -241,27 +336,53 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
 
 void EquipmentImpl::on_writer_lost(std::size_t group, const detail::Handle& writer,
                                    const char* cause, bool check_silence) {
-  const auto it = writer_device.find(writer);
-  if (it == writer_device.end()) return;
-  if (check_silence &&
-      recently_heard(group, writer_last_ns[writer], std::string(cause) + " of " + it->second)) {
+  // Heartbeat writers are remembered after they leave: each timing group's
+  // readers report the departure, and a few bytes per restart of a peer
+  // are cheap.
+  if (const auto* key = peer_groups.heartbeat_writer(writer)) {
+    on_heartbeat_writer_lost(group, *key, cause, check_silence);
     return;
   }
-  // The announcement writer stands for the whole device when it goes away;
-  // its lease (the equipment's timing) is not used for loss: each interface's
-  // items detect that with their own timing. An item writer stands for the
+  const auto it = writer_device.find(writer);
+  if (it == writer_device.end()) return;
+  // State and announcement writers assert no liveliness (their lease is
+  // infinite): only their departure (unmatched) says anything. The
+  // announcement writer stands for the whole device, an item writer for the
   // interfaces whose items it carried.
+  // A writer of an earlier incarnation of the counterpart (restarted under
+  // the same uuid) says nothing about the current one: its participant
+  // outlives it by up to a participant lease.
+  if (check_silence) return;
   const bool whole_device = description_writers.count(writer) != 0;
-  if (whole_device && check_silence) return;
   const auto& fed = writer_interfaces[writer];
+  const auto writer_participant = detail::participant_of(writer);
   for (auto& itf : interfaces) {
     if (itf->cp_uuid != it->second) continue;
+    if (itf->cp_group && itf->cp_group->participant != writer_participant) continue;
     if (whole_device || fed.count(itf->cp_interface) != 0) link_lost(*itf, cause);
+  }
+}
+
+// The heartbeat writer of a counterpart group lost its liveliness (checked
+// against the silence rule) or went away (not checked).
+void EquipmentImpl::on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
+                                             const char* cause, bool check_silence) {
+  for (auto& itf : interfaces) {
+    if (itf->group != group || !itf->cp_group || !(*itf->cp_group == key)) continue;
+    if (itf->link.load() != LinkState::Up) continue;
+    if (check_silence &&
+        recently_heard(group, itf->last_heard_ns, std::string(cause) + " of " + key.device)) {
+      continue;
+    }
+    link_lost(*itf, std::string("heartbeat ") + cause);
   }
 }
 
 void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {
   if (itf.link.load() != LinkState::Up) return;
+  // The machines take the loss as UNAVAILABLE: every value is stale now.
+  itf.cp_stale.clear();
+  for (const auto& [id, value] : itf.cp_values) itf.cp_stale.insert(id);
   set_link(itf, LinkState::Lost, cause);
   handle_batch(itf, itf.model->counterpart_lost(SteadyClock::now()));
 }

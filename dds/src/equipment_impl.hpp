@@ -2,6 +2,7 @@
 // the configuration is touched only on the executor thread.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -15,10 +16,12 @@
 #include "domain_tap.hpp"
 #include "door_chuck.hpp"
 #include "executor.hpp"
+#include "heartbeat_thread.hpp"
 #include "mtc/dds/detail/entities.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
+#include "peer_groups.hpp"
 
 namespace mtc::dds {
 
@@ -39,11 +42,11 @@ struct PendingRequest {
   bool issued = false;                       // the request went ACTIVE
 };
 
-// One published data item: its current value and heartbeat bookkeeping.
+// One published data item.
 struct PublishedItem {
   std::string id;
-  std::uint64_t heartbeat_count = 0;
   std::int64_t changed_ns = 0;  // source_time_ns of the current value
+  std::uint64_t seq = 0;        // change number of its newest write
 };
 
 struct ServiceSlot {
@@ -81,19 +84,25 @@ struct DoorChuckWriter {
   std::uint64_t seq = 0;
 };
 
-// Writers, readers and heartbeat schedule of the interfaces sharing one
-// timing (DEADLINE and liveliness are writer/reader QoS, so interfaces with
-// their own heartbeat get their own endpoints). Group 0 is the equipment's.
+// Writers, readers and heartbeat of the interfaces sharing one timing
+// (DEADLINE and liveliness are heartbeat writer/reader QoS, so interfaces
+// with their own heartbeat get their own endpoints). Group 0 is the
+// equipment's; its index is the `group` of its Heartbeat instance and the
+// `heartbeat_group` of its state samples.
 struct TimingGroup {
   qos::Timing timing;
   std::unique_ptr<Writer<idl::InteractionSample>> request_writer;
   std::unique_ptr<Writer<idl::InteractionSample>> response_writer;
   std::unique_ptr<Writer<idl::InterfaceStateSample>> interface_writer;
   std::tuple<DoorChuckWriter<core::DoorState>, DoorChuckWriter<core::ChuckState>> door_chuck;
+  std::unique_ptr<Writer<idl::Heartbeat>> heartbeat_writer;
   std::uint64_t request_seq = 0;
   std::uint64_t response_seq = 0;
   std::uint64_t interface_seq = 0;
-  SteadyClock::time_point next_heartbeat{};
+  // Change numbers already written, per state topic: what the heartbeat
+  // announces (written on the executor, read by the heartbeat thread).
+  std::array<std::atomic<std::uint64_t>, detail::kStateTopicCount> written{};
+  std::uint64_t beats = 0;  // heartbeat thread only
   std::unique_ptr<detail::DomainTap> tap;
   std::array<bool, detail::kTopicKindCount> incompatible_reported{};
 
@@ -114,7 +123,14 @@ struct InterfaceSlot {
   // Counterpart binding and link.
   std::string cp_uuid;
   std::string cp_interface;
-  std::int64_t last_heard_ns = 0;
+  // Which of the counterpart device's heartbeats vouches for its interface
+  // (known from its first value), and which incarnation wrote that value.
+  std::optional<detail::PeerGroupKey> cp_group;
+  // Last value of each counterpart item (by data item id), and the items the
+  // machines have not been given again since the link was lost.
+  std::map<std::string, ObservedValue> cp_values;
+  std::set<std::string> cp_stale;
+  std::int64_t last_heard_ns = 0;  // newest value or heartbeat of the counterpart
   std::atomic<LinkState> link{LinkState::Unpaired};
 
   template <typename State>
@@ -139,12 +155,26 @@ struct EquipmentImpl {
     std::string device;
     std::string interface_id;
     std::string item;
+    std::uint32_t group = 0;  // heartbeat instances
   };
-  std::map<detail::Handle, std::int64_t> writer_last_ns;              // last reception per writer
   std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
   std::set<detail::Handle> description_writers;
   std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
-  std::map<detail::Handle, std::uint64_t> writer_seq;  // last change number per writer
+  // Last change number per (timing group whose tap saw it, writer).
+  std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
+  detail::PeerGroups peer_groups;
+  // The last value of every item of every device our readers saw, paired or
+  // not: an interface that pairs later starts from what is already known
+  // (items are written on change only; nothing else would bring them).
+  struct SeenValue {
+    detail::Handle writer;
+    ObservedValue value;
+  };
+  std::map<std::pair<std::string, std::string>, SeenValue> seen_values;
+
+  // Samples written (any thread), for Equipment::traffic().
+  std::atomic<std::uint64_t> values_written{0};
+  std::atomic<std::uint64_t> heartbeats_written{0};
 
   // DDS entities, declaration order = creation order (destroyed in reverse).
   detail::Executor executor;
@@ -155,6 +185,7 @@ struct EquipmentImpl {
   QuietWriterListener writer_listener;
   std::unique_ptr<Writer<idl::DeviceDescription>> description_writer;
   std::vector<std::unique_ptr<TimingGroup>> groups;
+  std::unique_ptr<detail::HeartbeatThread> heartbeat_thread;  // after the writers it uses
 
   // --- lifecycle (equipment.cpp) ---
   InterfaceSlot& interface_slot(const std::string& id) const;
@@ -171,15 +202,24 @@ struct EquipmentImpl {
   std::future<void> set_door_chuck(const std::string& interface_id, State state);
 
   // --- publishing (equipment_publish.cpp) ---
-  void publish_interaction(ServiceSlot& slot, bool heartbeat, std::int64_t now_ns);
-  void publish_interface_state(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
+  // Each writes a change (state topics carry nothing else).
+  void publish_interaction(ServiceSlot& slot, std::int64_t now_ns);
+  void publish_interface_state(InterfaceSlot& itf, std::int64_t now_ns);
   // DOOR_STATE or CHUCK_STATE of one interface, if it publishes that item;
   // defined for core::DoorState and core::ChuckState.
   template <typename State>
-  void publish_door_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
-  void publish_doors_and_chucks(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns);
+  void publish_door_chuck(InterfaceSlot& itf, std::int64_t now_ns);
+  void publish_doors_and_chucks(InterfaceSlot& itf, std::int64_t now_ns);
   void publish_description();
-  void heartbeat(SteadyClock::time_point now);
+  void wrote(TimingGroup& g, detail::TopicKind topic, std::uint64_t seq);
+  // --- history span (equipment_history.cpp) ---
+  void bound_history(std::size_t group, detail::TopicKind topic);
+  template <typename Fn>
+  void for_each_item(std::size_t group, detail::TopicKind topic, Fn&& fn);
+  bool bounding_history = false;
+  // Heartbeat thread: one heartbeat of group `index`.
+  void write_heartbeat(std::size_t index);
+  void start_heartbeats();
   void dispose_all() noexcept;
 
   // --- machines (equipment_machines.cpp) ---
@@ -198,6 +238,11 @@ struct EquipmentImpl {
   // --- DDS events (equipment_events.cpp) ---
   void on_event(std::size_t group, detail::TapEvent& event);
   void on_value(std::size_t group, detail::ValueEvent& e);
+  void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
+                              const ObservedValue& v);
+  void deliver(InterfaceSlot& itf, const ObservedValue& v, bool missed_change);
+  void on_heartbeat(std::size_t group, detail::HeartbeatEvent& e);
+  void redeliver_stale(InterfaceSlot& itf);
   void feed_counterpart(ServiceSlot& slot, const ObservedValue& v, bool missed_change);
   void bind_configured();
   void on_device(detail::DeviceEvent& e);
@@ -206,11 +251,14 @@ struct EquipmentImpl {
   void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
                       bool check_silence);
   void on_deadline_missed(std::size_t group);
+  void on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
+                                const char* cause, bool check_silence);
   bool recently_heard(std::size_t group, std::int64_t last_ns, const std::string& what);
   void link_lost(InterfaceSlot& itf, const std::string& cause);
   void link_up(InterfaceSlot& itf, const char* cause);
   void set_link(InterfaceSlot& itf, LinkState next, const std::string& cause);
   bool try_bind(InterfaceSlot& itf, const std::string& device, const std::string& interface_id);
+  void replay_seen_values(InterfaceSlot& itf);
   void diagnostic(const std::string& text);
   // Application callbacks must not take the executor down.
   template <typename Fn>

@@ -59,7 +59,7 @@ void EquipmentImpl::handle_result(ServiceSlot& slot, const core::StepResult& r,
   TransitionEvent ev;
   ev.step_time_ns = topics::realtime_ns();
   if (r.changed()) {
-    publish_interaction(slot, false, ev.step_time_ns);
+    publish_interaction(slot, ev.step_time_ns);
     ev.publish_time_ns = topics::realtime_ns();
   }
   slot.snap_state = machine->state();
@@ -161,7 +161,6 @@ void EquipmentImpl::try_issue(ServiceSlot& slot, SteadyClock::time_point now) {
 
 SteadyClock::time_point EquipmentImpl::next_wake() const {
   auto wake = SteadyClock::time_point::max();
-  for (const auto& g : groups) wake = std::min(wake, g->next_heartbeat);
   for (const auto& itf : interfaces) wake = std::min(wake, itf->model->next_deadline());
   for (const auto& s : slots) {
     if (s->pending && !s->pending->issued) wake = std::min(wake, s->pending->ready_deadline);
@@ -170,7 +169,6 @@ SteadyClock::time_point EquipmentImpl::next_wake() const {
 }
 
 void EquipmentImpl::on_wake(SteadyClock::time_point now) {
-  heartbeat(now);  // the groups whose period is due
   for (auto& itf : interfaces) {
     // At most one limit per machine per on_tick; bounded loop for safety.
     for (int i = 0; i < 32 && itf->model->next_deadline() <= now; ++i) {

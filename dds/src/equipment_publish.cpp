@@ -1,5 +1,5 @@
-// Equipment: DDS entities, publication of this device's data items, the
-// heartbeat and the DeviceDescription announcement.
+// Equipment: DDS entities, publication of this device's data items (changes
+// only), the heartbeat and the DeviceDescription announcement.
 #include <algorithm>
 #include <iostream>
 
@@ -9,6 +9,8 @@
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {
+
+using detail::TopicKind;
 
 namespace {
 
@@ -25,25 +27,23 @@ std::vector<std::string> reader_partitions(const EquipmentImpl& impl) {
 
 template <typename Sample>
 void fill_common(Sample& s, const std::string& device, const std::string& interface_id,
-                 const PublishedItem& item, std::uint64_t seq) {
+                 std::size_t group, const PublishedItem& item, std::uint64_t seq) {
   s.device_uuid(device);
   s.data_item_id(item.id);
   s.interface_id(interface_id);
   s.sequence_number(seq);
-  s.heartbeat_count(item.heartbeat_count);
+  s.heartbeat_group(static_cast<std::uint32_t>(group));
   s.source_time_ns(item.changed_ns);
 }
 
-// A change bumps the writer's sequence number and restarts the heartbeat
-// count; a heartbeat repeats the value with heartbeat_count + 1.
-void touch(PublishedItem& item, std::uint64_t& writer_seq, bool heartbeat, std::int64_t now_ns) {
-  if (heartbeat) {
-    ++item.heartbeat_count;
-  } else {
-    ++writer_seq;
-    item.heartbeat_count = 0;
-    item.changed_ns = now_ns;
-  }
+// A change bumps the writer's sequence number and stamps the item.
+void touch(PublishedItem& item, std::uint64_t& writer_seq, std::int64_t now_ns) {
+  item.seq = ++writer_seq;
+  item.changed_ns = now_ns;
+}
+
+std::uint32_t to_ms(std::chrono::milliseconds d) {
+  return static_cast<std::uint32_t>(d.count());
 }
 
 }  // namespace
@@ -70,7 +70,6 @@ void EquipmentImpl::create_group(std::size_t index) {
       response = response || slots[i]->role == core::Role::Responder;
     }
   }
-  using detail::TopicKind;
   if (request) {
     g.request_writer = std::make_unique<Writer<idl::InteractionSample>>(
         *publisher, topics->get(TopicKind::Request), wq, writer_listener);
@@ -79,6 +78,9 @@ void EquipmentImpl::create_group(std::size_t index) {
     g.response_writer = std::make_unique<Writer<idl::InteractionSample>>(
         *publisher, topics->get(TopicKind::Response), wq, writer_listener);
   }
+  g.heartbeat_writer = std::make_unique<Writer<idl::Heartbeat>>(
+      *publisher, topics->get(TopicKind::Heartbeat), qos::heartbeat_topic(g.timing).writer_qos(),
+      writer_listener);
   g.interface_writer = std::make_unique<Writer<idl::InterfaceStateSample>>(
       *publisher, topics->get(TopicKind::InterfaceState), wq, writer_listener);
   detail::for_door_and_chuck([&](auto tag) {
@@ -102,6 +104,7 @@ void EquipmentImpl::create_entities() {
   pc.transport = options.transport;
   pc.faults = options.faults;
   pc.timing = t;
+  detail::deliver_through_transports();
   participant = std::make_unique<Participant>(options.domain_id, qos::participant_qos(pc));
   topics = std::make_unique<detail::TopicSet>(*participant, t);
   publisher = std::make_unique<Publisher>(
@@ -124,8 +127,8 @@ void EquipmentImpl::create_entities() {
       *publisher, topics->get(detail::TopicKind::DeviceDescription),
       qos::device_description_topic(t).writer_qos(), writer_listener);
 
-  // Machines, initial states, announcement; then readers and the executor.
-  const auto now = SteadyClock::now();
+  // Machines, initial states, announcement; then the executor, the
+  // heartbeats and the readers.
   const auto now_ns = topics::realtime_ns();
   for (auto& itf : interfaces) {
     core::MachineOptions defaults;
@@ -143,15 +146,15 @@ void EquipmentImpl::create_entities() {
         itf->model->add_responder(s.service, mo);
       }
       s.snap_state = itf->model->machine(s.service, s.role)->state();
-      publish_interaction(s, false, now_ns);
+      publish_interaction(s, now_ns);
     }
-    publish_interface_state(*itf, false, now_ns);
-    publish_doors_and_chucks(*itf, false, now_ns);
+    publish_interface_state(*itf, now_ns);
+    publish_doors_and_chucks(*itf, now_ns);
   }
   publish_description();
-  for (auto& g : groups) g->next_heartbeat = now + g->timing.heartbeat;
 
   executor.start([this] { return next_wake(); }, [this](SteadyClock::time_point n) { on_wake(n); });
+  start_heartbeats();
   // Pairing callbacks run on the executor like every other callback.
   executor.post([this] { bind_configured(); });
   for (std::size_t g = 0; g < groups.size(); ++g) {
@@ -167,11 +170,55 @@ void EquipmentImpl::create_entities() {
   }
 }
 
+// One heartbeat thread for every group; a group's heartbeat is withheld once
+// the executor has owed work for a lease: by then the peers' deadline is due
+// anyway, and a hung executor must look like what it is.
+void EquipmentImpl::start_heartbeats() {
+  std::vector<detail::HeartbeatThread::Group> beats;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const auto& t = groups[g]->timing;
+    beats.push_back({t.heartbeat, t.lease(), [this, g] { write_heartbeat(g); }});
+  }
+  heartbeat_thread = std::make_unique<detail::HeartbeatThread>(
+      std::move(beats), executor,
+      [this](const std::string& text) { executor.post([this, text] { diagnostic(text); }); });
+}
+
+void EquipmentImpl::write_heartbeat(std::size_t index) {
+  auto& g = *groups[index];
+  const auto changes = [&g](TopicKind t) {
+    return g.written[static_cast<std::size_t>(t)].load(std::memory_order_acquire);
+  };
+  idl::Heartbeat h;
+  h.device_uuid(options.device_uuid);
+  h.group(static_cast<std::uint32_t>(index));
+  h.period_ms(to_ms(g.timing.heartbeat));
+  h.lease_ms(to_ms(g.timing.lease()));
+  h.beat(++g.beats);
+  h.request_changes(changes(TopicKind::Request));
+  h.response_changes(changes(TopicKind::Response));
+  h.interface_state_changes(changes(TopicKind::InterfaceState));
+  h.door_state_changes(changes(TopicKind::DoorState));
+  h.chuck_state_changes(changes(TopicKind::ChuckState));
+  h.source_time_ns(topics::realtime_ns());
+  g.heartbeat_writer->write(h);
+  heartbeats_written.fetch_add(1, std::memory_order_relaxed);
+}
+
+// After the write: a heartbeat announces only changes already written.
+void EquipmentImpl::wrote(TimingGroup& g, TopicKind topic, std::uint64_t seq) {
+  g.written[static_cast<std::size_t>(topic)].store(seq, std::memory_order_release);
+  values_written.fetch_add(1, std::memory_order_relaxed);
+}
+
 void EquipmentImpl::shutdown() noexcept {
-  // Stop the executor first: nothing touches the writers concurrently after.
+  // Heartbeats first (peers then see a dead device, not a lying one), then
+  // the executor: nothing touches the writers concurrently after.
+  if (heartbeat_thread) heartbeat_thread->stop();
   executor.stop();
   if (started) dispose_all();
   for (auto& g : groups) g->tap.reset();
+  heartbeat_thread.reset();
   description_writer.reset();
   groups.clear();  // writers before their publisher
   publisher.reset();
@@ -179,51 +226,54 @@ void EquipmentImpl::shutdown() noexcept {
   participant.reset();
 }
 
-void EquipmentImpl::publish_interaction(ServiceSlot& slot, bool heartbeat, std::int64_t now_ns) {
+void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) {
   const bool request = slot.role == core::Role::Requester;
   auto& itf = *interfaces[slot.interface_index];
   auto& g = group_of(itf);
   auto& writer = request ? g.request_writer : g.response_writer;
   auto& seq = request ? g.request_seq : g.response_seq;
-  touch(slot.item, seq, heartbeat, now_ns);
+  touch(slot.item, seq, now_ns);
   idl::InteractionSample s;
-  fill_common(s, options.device_uuid, itf.config.id, slot.item, seq);
+  fill_common(s, options.device_uuid, itf.config.id, itf.group, slot.item, seq);
   s.service(topics::to_idl(slot.service));
   s.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
   s.state(topics::to_idl(itf.model->machine(slot.service, slot.role)->state()));
   writer->write(s);
+  wrote(g, request ? TopicKind::Request : TopicKind::Response, seq);
+  bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response);
 }
 
-void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, bool heartbeat,
-                                            std::int64_t now_ns) {
+void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, std::int64_t now_ns) {
   auto& g = group_of(itf);
-  touch(itf.state_item, g.interface_seq, heartbeat, now_ns);
+  touch(itf.state_item, g.interface_seq, now_ns);
   idl::InterfaceStateSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.state_item, g.interface_seq);
+  fill_common(s, options.device_uuid, itf.config.id, itf.group, itf.state_item, g.interface_seq);
   s.state(topics::to_idl(itf.model->interface_state()));
   g.interface_writer->write(s);
+  wrote(g, TopicKind::InterfaceState, g.interface_seq);
+  bound_history(itf.group, TopicKind::InterfaceState);
 }
 
 template <typename State>
-void EquipmentImpl::publish_door_chuck(InterfaceSlot& itf, bool heartbeat, std::int64_t now_ns) {
+void EquipmentImpl::publish_door_chuck(InterfaceSlot& itf, std::int64_t now_ns) {
   auto& item = itf.door_chuck_item<State>();
   if (!item.published) return;
-  auto& w = group_of(itf).door_chuck_writer<State>();
-  touch(item.item, w.seq, heartbeat, now_ns);
+  auto& g = group_of(itf);
+  auto& w = g.door_chuck_writer<State>();
+  touch(item.item, w.seq, now_ns);
   typename detail::DoorChuck<State>::Sample s;
-  fill_common(s, options.device_uuid, itf.config.id, item.item, w.seq);
+  fill_common(s, options.device_uuid, itf.config.id, itf.group, item.item, w.seq);
   s.state(topics::to_idl(item.state));
   w.writer->write(s);
+  wrote(g, detail::DoorChuck<State>::topic, w.seq);
+  bound_history(itf.group, detail::DoorChuck<State>::topic);
 }
-template void EquipmentImpl::publish_door_chuck<core::DoorState>(InterfaceSlot&, bool,
-                                                                 std::int64_t);
-template void EquipmentImpl::publish_door_chuck<core::ChuckState>(InterfaceSlot&, bool,
-                                                                  std::int64_t);
+template void EquipmentImpl::publish_door_chuck<core::DoorState>(InterfaceSlot&, std::int64_t);
+template void EquipmentImpl::publish_door_chuck<core::ChuckState>(InterfaceSlot&, std::int64_t);
 
-void EquipmentImpl::publish_doors_and_chucks(InterfaceSlot& itf, bool heartbeat,
-                                             std::int64_t now_ns) {
+void EquipmentImpl::publish_doors_and_chucks(InterfaceSlot& itf, std::int64_t now_ns) {
   detail::for_door_and_chuck(
-      [&](auto tag) { publish_door_chuck<typename decltype(tag)::type>(itf, heartbeat, now_ns); });
+      [&](auto tag) { publish_door_chuck<typename decltype(tag)::type>(itf, now_ns); });
 }
 
 namespace {
@@ -270,29 +320,9 @@ void EquipmentImpl::publish_description() {
   description_writer->write(d);
 }
 
-// Re-publishes every item of each group whose heartbeat is due, unchanged
-// (keeps the peers' DEADLINE satisfied and asserts MANUAL_BY_TOPIC liveliness
-// of each writer); group 0 also asserts the announcement's liveliness.
-void EquipmentImpl::heartbeat(SteadyClock::time_point now) {
-  const auto now_ns = topics::realtime_ns();
-  for (std::size_t gi = 0; gi < groups.size(); ++gi) {
-    auto& g = *groups[gi];
-    if (now < g.next_heartbeat) continue;
-    for (auto& itf : interfaces) {
-      if (itf->group != gi) continue;
-      for (auto index : itf->services) publish_interaction(*slots[index], true, now_ns);
-      publish_interface_state(*itf, true, now_ns);
-      publish_doors_and_chucks(*itf, true, now_ns);
-    }
-    if (gi == 0) description_writer->assert_liveliness();
-    g.next_heartbeat += g.timing.heartbeat;
-    if (g.next_heartbeat <= now) g.next_heartbeat = now + g.timing.heartbeat;
-  }
-}
-
-// Graceful leave: disposing every instance lets peers see our items
-// UNAVAILABLE at once instead of after a lease. Each disposal is attempted
-// even if another fails (a destructor must finish).
+// Graceful leave: disposing every instance (heartbeats included) lets peers
+// see our items UNAVAILABLE at once instead of after a lease. Each disposal
+// is attempted even if another fails (a destructor must finish).
 void EquipmentImpl::dispose_all() noexcept {
   auto attempt = [this](auto&& fn) {
     try {
@@ -306,13 +336,19 @@ void EquipmentImpl::dispose_all() noexcept {
       auto& slot = *slots[index];
       const bool request = slot.role == core::Role::Requester;
       idl::InteractionSample s;
-      fill_common(s, options.device_uuid, itf->config.id, slot.item, 0);
+      fill_common(s, options.device_uuid, itf->config.id, itf->group, slot.item, 0);
       auto& g = group_of(*itf);
       attempt([&] { (request ? g.request_writer : g.response_writer)->dispose(s); });
     }
     idl::InterfaceStateSample s;
-    fill_common(s, options.device_uuid, itf->config.id, itf->state_item, 0);
+    fill_common(s, options.device_uuid, itf->config.id, itf->group, itf->state_item, 0);
     attempt([&] { group_of(*itf).interface_writer->dispose(s); });
+  }
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    idl::Heartbeat h;
+    h.device_uuid(options.device_uuid);
+    h.group(static_cast<std::uint32_t>(g));
+    attempt([&] { groups[g]->heartbeat_writer->dispose(h); });
   }
   idl::DeviceDescription d;
   d.device_uuid(options.device_uuid);

@@ -17,9 +17,20 @@ void Executor::post(Task task) {
     if (stopping_) {
       return;
     }
+    if (tasks_.empty() && !running_ && owed_since_ == Clock::time_point{}) {
+      owed_since_ = Clock::now();
+    }
     tasks_.push_back(std::move(task));
   }
   cv_.notify_one();
+}
+
+Executor::Clock::duration Executor::owed_for(Clock::time_point now) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (owed_since_ == Clock::time_point{} || now < owed_since_) {
+    return Clock::duration::zero();
+  }
+  return now - owed_since_;
 }
 
 void Executor::stop() {
@@ -65,6 +76,10 @@ void Executor::run() {
       if (stopping_ && batch.empty()) {
         return;
       }
+      running_ = true;
+      if (owed_since_ == Clock::time_point{}) {
+        owed_since_ = Clock::now();  // a timer's work
+      }
     }
     for (auto& task : batch) {
       guarded(task);
@@ -73,6 +88,10 @@ void Executor::run() {
     if (on_wake_ && Clock::now() >= wake) {
       guarded([this] { on_wake_(Clock::now()); });
     }
+    std::lock_guard<std::mutex> lock(mutex_);
+    running_ = false;
+    // Progress: what is waiting now is owed from now on.
+    owed_since_ = tasks_.empty() ? Clock::time_point{} : Clock::now();
   }
 }
 

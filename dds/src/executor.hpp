@@ -35,16 +35,24 @@ class Executor {
   bool on_executor_thread() const noexcept {
     return std::this_thread::get_id() == thread_.get_id();
   }
+  // How long the executor has owed work without finishing any: zero when it
+  // is idle or has just finished a batch; otherwise the time since tasks
+  // were posted to it idle, or since it last finished a batch while more
+  // were waiting. The heartbeat thread's watchdog: a process whose executor
+  // is stuck must stop heartbeating, so that its peers see it as lost.
+  Clock::duration owed_for(Clock::time_point now) const;
 
  private:
   void run();
 
   NextWake next_wake_;
   OnWake on_wake_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Task> tasks_;
   bool stopping_ = false;
+  bool running_ = false;            // a batch or on_wake is executing
+  Clock::time_point owed_since_{};  // == Clock::time_point{}: owes nothing
   std::thread thread_;
 };
 

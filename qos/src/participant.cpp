@@ -3,6 +3,8 @@
 #include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 
+#include <mutex>
+#include <random>
 #include <stdexcept>
 
 #include "mtc/qos/endpoint_qos.hpp"
@@ -31,6 +33,20 @@ std::shared_ptr<frtps::TransportDescriptorInterface> test_udp(const FaultInjecti
   udp->dropDataMessagesPercentage = faults.drop_data_percent;
   udp->dropHeartbeatMessagesPercentage = faults.drop_heartbeat_percent;
   udp->dropAckNackMessagesPercentage = faults.drop_acknack_percent;
+  if (faults.random_drop_data_percent > 0) {
+    // Called on the sending threads of the participant: one generator, locked.
+    struct Random {
+      std::mutex mutex;
+      std::mt19937 engine{std::random_device{}()};
+      std::uniform_int_distribution<int> percent{0, 99};
+    };
+    auto random = std::make_shared<Random>();
+    const int p = faults.random_drop_data_percent;
+    udp->drop_data_messages_filter_ = [random, p](eprosima::fastrtps::rtps::CDRMessage_t&) {
+      std::lock_guard<std::mutex> lock(random->mutex);
+      return random->percent(random->engine) < p;
+    };
+  }
   // Per-participant outage switch, checked for every datagram sent.
   auto outage = faults.outage;
   udp->messages_filter_ = [outage](eprosima::fastrtps::rtps::CDRMessage_t&) {

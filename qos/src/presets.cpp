@@ -47,8 +47,6 @@ EndpointQos state_topic(const Timing& timing) {
       .transient_local()
       .keep_last(1)
       .reader_depth(8)
-      .deadline(timing.lease())
-      .liveliness_manual_by_topic(timing.lease())
       .reliable_heartbeat(timing.reliable_heartbeat)
       .shared_ownership()
       .max_instances(kWriterMaxInstances)
@@ -62,6 +60,30 @@ EndpointQos state_observer_topic(const Timing& timing) {
       .transient_local()
       .keep_last(1)
       .reader_depth(8)
+      .shared_ownership()
+      .max_instances(kReaderMaxInstances);
+}
+
+EndpointQos heartbeat_topic(const Timing& timing) {
+  validate(timing);
+  return EndpointQos()
+      .reliable()
+      .transient_local()
+      .keep_last(1)
+      .deadline(timing.lease())
+      .liveliness_manual_by_topic(timing.lease())
+      .reliable_heartbeat(timing.reliable_heartbeat)
+      .shared_ownership()
+      .max_instances(kWriterMaxInstances)
+      .reader_max_instances(kReaderMaxInstances);
+}
+
+EndpointQos heartbeat_observer_topic(const Timing& timing) {
+  validate(timing);
+  return EndpointQos()
+      .reliable()
+      .transient_local()
+      .keep_last(1)
       .liveliness_manual_by_topic(timing.lease())
       .shared_ownership()
       .max_instances(kReaderMaxInstances);
@@ -73,7 +95,6 @@ EndpointQos device_description_topic(const Timing& timing) {
       .reliable()
       .transient_local()
       .keep_last(1)
-      .liveliness_manual_by_topic(timing.lease())
       .reliable_heartbeat(timing.reliable_heartbeat)
       .shared_ownership()
       .max_instances(kWriterMaxInstances)
@@ -90,6 +111,12 @@ EndpointQos preset(std::string_view name, const Timing& timing) {
   if (name == kStateObserverProfile) {
     return state_observer_topic(timing);
   }
+  if (name == kHeartbeatProfile) {
+    return heartbeat_topic(timing);
+  }
+  if (name == kHeartbeatObserverProfile) {
+    return heartbeat_observer_topic(timing);
+  }
   std::string known;
   for (const auto& n : preset_names()) {
     known += (known.empty() ? "" : ", ") + n;
@@ -100,7 +127,8 @@ EndpointQos preset(std::string_view name, const Timing& timing) {
 
 std::vector<std::string> preset_names() {
   return {std::string(kStateProfile), std::string(kDeviceDescriptionProfile),
-          std::string(kStateObserverProfile)};
+          std::string(kStateObserverProfile), std::string(kHeartbeatProfile),
+          std::string(kHeartbeatObserverProfile)};
 }
 
 std::string profiles_file_path() {

@@ -150,13 +150,13 @@ inline core::ObservedDevice cell_feeder() {
 
 inline core::ObservedValue value(const std::string& uuid, const std::string& id,
                                  core::ObservedState state, std::int64_t time_ns = 0,
-                                 std::uint64_t heartbeat = 0) {
+                                 bool redelivered = false) {
   core::ObservedValue o;
   o.device_uuid = uuid;
   o.data_item_id = id;
   o.state = state;
   o.source_time_ns = time_ns;
-  o.heartbeat_count = heartbeat;
+  o.redelivered = redelivered;
   return o;
 }
 

@@ -66,19 +66,21 @@ TEST(Agent, CurrentShowsLatestValuesWithAttributes) {
   EXPECT_EQ(d.number("//Header/@lastSequence"), seq);
 }
 
-TEST(Agent, HeartbeatRepeatsCreateNoObservations) {
+// The observer hands last known values over again after a loss; one equal
+// to what the buffer holds adds nothing.
+TEST(Agent, UnchangedValuesCreateNoObservations) {
   auto agent = test::announced_cell();
   agent->add_value(value("robot-0001", "robot.mh.state", core::InterfaceState::Enabled, kT0));
   const std::uint64_t next = agent->next_sequence();
-  for (std::uint64_t hb = 1; hb <= 5; ++hb) {
+  for (int i = 1; i <= 5; ++i) {
     agent->add_value(
-        value("robot-0001", "robot.mh.state", core::InterfaceState::Enabled, kT0 + 100, hb));
+        value("robot-0001", "robot.mh.state", core::InterfaceState::Enabled, kT0 + 100, true));
   }
   EXPECT_EQ(agent->next_sequence(), next);
   EXPECT_EQ(agent->stats().duplicates, 5u);
-  // A "heartbeat" carrying a different value is a change we had missed.
+  // A value handed over again that differs is a change we had missed.
   agent->add_value(
-      value("robot-0001", "robot.mh.state", core::InterfaceState::Disabled, kT0 + 200, 6));
+      value("robot-0001", "robot.mh.state", core::InterfaceState::Disabled, kT0 + 200, true));
   EXPECT_EQ(agent->next_sequence(), next + 1);
 }
 

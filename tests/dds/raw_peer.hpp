@@ -1,7 +1,8 @@
 // A hand-driven counterpart: publishes one interaction data item the way a
-// (possibly misbehaving) device of another vendor would, with a heartbeat,
-// so tests can produce states the Equipment API never would (scenarios 4
-// and 5, protocol violations).
+// (possibly misbehaving) device of another vendor would (changes only, plus
+// a heartbeat every 100 ms announcing its newest change), so tests can
+// produce states the Equipment API never would (scenarios 4 and 5, protocol
+// violations).
 #pragma once
 
 #include <condition_variable>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/heartbeat_writer.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
@@ -26,7 +28,9 @@ class RawPeer {
  public:
   RawPeer(int domain, const std::string& uuid, core::SubType side, core::Service service)
       : participant_(domain, qos::participant_qos({})),
-        publisher_(participant_, {topics::device_partition(uuid)}) {
+        publisher_(participant_, {topics::device_partition(uuid)}),
+        heartbeat_(participant_, publisher_, uuid),
+        side_(side) {
     participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
     topic_ = std::make_unique<Topic>(
         participant_,
@@ -49,31 +53,36 @@ class RawPeer {
     cv_.notify_all();
     thread_.join();
   }
-  // A change of value: new change number, heartbeat count reset.
+  // A change of value: new change number.
   void set(core::InteractionState state) {
     std::lock_guard<std::mutex> lock(mutex_);
     sample_.state(topics::to_idl(state));
     sample_.sequence_number(sample_.sequence_number() + 1);
-    sample_.heartbeat_count(0);
     sample_.source_time_ns(topics::realtime_ns());
     writer_->write(sample_);
   }
 
  private:
-  // The periodic re-publication every real device performs (a timer, not a
-  // synchronisation sleep).
+  // The heartbeat every real device writes (a timer, not a synchronisation
+  // sleep), announcing the newest change.
   void heartbeat() {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return stop_; })) {
       if (sample_.sequence_number() == 0) continue;
-      sample_.heartbeat_count(sample_.heartbeat_count() + 1);
-      writer_->write(sample_);
+      if (side_ == core::SubType::Request) {
+        heartbeat_.sample().request_changes(sample_.sequence_number());
+      } else {
+        heartbeat_.sample().response_changes(sample_.sequence_number());
+      }
+      heartbeat_.beat();
     }
   }
 
   struct QuietListener : fdds::DataWriterListener {};
   Participant participant_;
   Publisher publisher_;
+  HeartbeatWriter heartbeat_;
+  core::SubType side_;
   QuietListener listener_;
   std::unique_ptr<Topic> topic_;
   std::unique_ptr<Writer<idl::InteractionSample>> writer_;

@@ -1,13 +1,17 @@
-// DomainObserver sees values and announcements of raw writers that follow
-// the topic design, and reports items and devices lost when their writer
-// loses liveliness, is deleted, or misses its deadline.
+// DomainObserver sees values, heartbeats and announcements of raw writers
+// that follow the topic design, reports items and devices lost when their
+// heartbeats stop or their writer is deleted, and hands the last known
+// values over again when the heartbeats resume, once nothing announced is
+// missing.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
+#include <thread>
 
 #include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/heartbeat_writer.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
@@ -27,6 +31,7 @@ struct Recorder {
   std::vector<mtc::dds::ObservedDevice> devices;
   std::vector<std::pair<std::string, std::vector<std::string>>> lost;
   std::vector<std::string> devices_lost;
+  int heartbeats = 0;
 
   mtc::dds::DomainObserverCallbacks callbacks() {
     mtc::dds::DomainObserverCallbacks cb;
@@ -38,6 +43,7 @@ struct Recorder {
       add([&] { lost.emplace_back(d, items); });
     };
     cb.on_device_lost = [this](const std::string& d) { add([&] { devices_lost.push_back(d); }); };
+    cb.on_heartbeat = [this](const mtc::dds::ObservedHeartbeat&) { add([&] { ++heartbeats; }); };
     return cb;
   }
   template <typename Fn>
@@ -57,13 +63,15 @@ struct Recorder {
 
 struct QuietListener : eprosima::fastdds::dds::DataWriterListener {};
 
-// A minimal hand-made "device": one InteractionSample writer and one
-// DeviceDescription writer in the device's partition.
+// A minimal hand-made "device": one InteractionSample writer, one
+// DeviceDescription writer and its heartbeat (group 0) in the device's
+// partition.
 class RawDevice {
  public:
   RawDevice(int domain, const std::string& uuid)
       : participant_(domain, mtc::qos::participant_qos({})),
         publisher_(participant_, {topics::device_partition(uuid)}),
+        heartbeat_(participant_, publisher_, uuid),
         uuid_(uuid) {
     participant_.register_type(mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
     participant_.register_type(mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
@@ -108,10 +116,16 @@ class RawDevice {
     writer_->write(s);
   }
   void drop_writer() { writer_.reset(); }
+  // One heartbeat announcing `changes` as the newest response change.
+  void beat(std::uint64_t changes) {
+    heartbeat_.sample().response_changes(changes);
+    heartbeat_.beat();
+  }
 
  private:
   mtc::dds::detail::Participant participant_;
   mtc::dds::detail::Publisher publisher_;
+  mtc::dds::detail::HeartbeatWriter heartbeat_;
   std::string uuid_;
   QuietListener listener_;
   std::unique_ptr<mtc::dds::detail::Topic> response_topic_;
@@ -132,7 +146,9 @@ TEST(DomainObserver, SeesAnnouncementsValuesAndLossByLiveliness) {
   RawDevice dev(20, "robot-1");
   dev.announce();
   dev.publish(mtc::idl::interaction_state::READY, 1);
-  ASSERT_TRUE(rec.wait([&] { return !rec.devices.empty() && !rec.values.empty(); }));
+  dev.beat(1);
+  ASSERT_TRUE(
+      rec.wait([&] { return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats == 1; }));
   {
     std::lock_guard<std::mutex> lock(rec.mutex);
     EXPECT_EQ(rec.devices[0].device_uuid, "robot-1");
@@ -147,8 +163,8 @@ TEST(DomainObserver, SeesAnnouncementsValuesAndLossByLiveliness) {
     EXPECT_EQ(v.sequence_number, 1u);
   }
   EXPECT_EQ(observer.devices().size(), 1u);
-  // No heartbeat follows: the MANUAL_BY_TOPIC lease (300 ms) expires for
-  // both writers (the description writer never asserts either).
+  // No heartbeat follows: the heartbeat's MANUAL_BY_TOPIC lease (300 ms)
+  // expires; group 0 vouches for the item and for the device itself.
   const auto start = std::chrono::steady_clock::now();
   ASSERT_TRUE(rec.wait([&] { return !rec.lost.empty() && !rec.devices_lost.empty(); }));
   EXPECT_LT(std::chrono::steady_clock::now() - start, 3s);
@@ -156,6 +172,100 @@ TEST(DomainObserver, SeesAnnouncementsValuesAndLossByLiveliness) {
   EXPECT_EQ(rec.lost[0].first, "robot-1");
   EXPECT_EQ(rec.lost[0].second, std::vector<std::string>{"mh1_material_load_response"});
   EXPECT_EQ(rec.devices_lost[0], "robot-1");
+}
+
+// The device's heartbeat every 100 ms from a thread of its own, announcing
+// `changes`, while running (a timer, not a synchronisation sleep).
+class Beater {
+ public:
+  explicit Beater(RawDevice& dev) : dev_(dev), thread_([this] { run(); }) {}
+  ~Beater() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  void beat(std::uint64_t changes) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    changes_ = changes;
+    beating_ = true;
+  }
+  void pause() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    beating_ = false;
+  }
+
+ private:
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!cv_.wait_for(lock, 100ms, [this] { return stop_; })) {
+      if (beating_) dev_.beat(changes_);
+    }
+  }
+  RawDevice& dev_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+  bool beating_ = false;
+  std::uint64_t changes_ = 0;
+  std::thread thread_;
+};
+
+// A heartbeat repeats nothing: when heartbeats resume after a loss the
+// observer hands the last value over again, but only once every change the
+// heartbeat announces has arrived (until then the value may be stale).
+TEST(DomainObserver, RedeliversLastValuesOnceHeartbeatsResumeInStep) {
+  Recorder rec;
+  mtc::dds::DomainObserver observer(options(25), rec.callbacks());
+  RawDevice dev(25, "robot-2");
+  Beater beater(dev);
+  dev.announce();
+  dev.publish(mtc::idl::interaction_state::READY, 1);
+  beater.beat(1);
+  ASSERT_TRUE(rec.wait(
+      [&] { return rec.values.size() == 1 && !rec.devices.empty() && rec.heartbeats > 0; }));
+  beater.pause();
+  ASSERT_TRUE(rec.wait([&] { return rec.lost.size() == 1 && rec.devices_lost.size() == 1; }))
+      << "lost " << rec.lost.size() << ", devices lost " << rec.devices_lost.size();
+
+  // Back, announcing change 2 that has not arrived: nothing is handed over
+  // while a few heartbeats pass.
+  int heartbeats = 0;
+  {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    heartbeats = rec.heartbeats;
+  }
+  beater.beat(2);
+  ASSERT_TRUE(rec.wait([&] { return rec.heartbeats >= heartbeats + 5; }));
+  std::size_t announced = 0;
+  {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    EXPECT_EQ(rec.values.size(), 1u);
+    announced = rec.devices.size();
+  }
+  // Change 2 arrives as a change, not as a redelivery; the device is back.
+  dev.publish(mtc::idl::interaction_state::NOT_READY, 2);
+  ASSERT_TRUE(rec.wait([&] { return rec.values.size() == 2; }));
+  ASSERT_TRUE(rec.wait([&] { return rec.devices.size() == announced + 1; }));
+  {
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    EXPECT_FALSE(rec.values[1].redelivered);
+    EXPECT_EQ(rec.values[1].sequence_number, 2u);
+  }
+
+  // Lost again; back in step: the last value (NOT_READY) again, and the
+  // device, whose announcement is repeated for the consumers.
+  beater.pause();
+  ASSERT_TRUE(rec.wait([&] { return rec.lost.size() == 2 && rec.devices_lost.size() == 2; }));
+  beater.beat(2);
+  ASSERT_TRUE(rec.wait([&] { return rec.values.size() == 3; }));
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  EXPECT_TRUE(rec.values[2].redelivered);
+  EXPECT_EQ(rec.values[2].state.interaction(), mtc::core::InteractionState::NotReady);
+  EXPECT_EQ(rec.values[2].sequence_number, 2u);
+  EXPECT_EQ(rec.devices.size(), announced + 2);
 }
 
 TEST(DomainObserver, ReportsLossWhenWriterIsDeleted) {

@@ -267,6 +267,7 @@ TEST(Equipment, ObserverSeesTheEquipmentAndItsDeparture) {
   std::vector<ObservedDevice> devices;
   std::vector<ObservedValue> values;
   std::vector<std::string> lost;
+  int heartbeats = 0;
   DomainObserverCallbacks cb;
   cb.on_device = [&](const ObservedDevice& d) {
     std::lock_guard<std::mutex> l(m);
@@ -283,6 +284,11 @@ TEST(Equipment, ObserverSeesTheEquipmentAndItsDeparture) {
     lost.insert(lost.end(), items.begin(), items.end());
     cv.notify_all();
   };
+  cb.on_heartbeat = [&](const ObservedHeartbeat& h) {
+    std::lock_guard<std::mutex> l(m);
+    if (h.device_uuid == "cnc-obs" && h.group == 0 && h.request_changes >= 1) ++heartbeats;
+    cv.notify_all();
+  };
   DomainObserverOptions oo;
   oo.domain_id = 39;
   DomainObserver observer(oo, cb);
@@ -292,12 +298,19 @@ TEST(Equipment, ObserverSeesTheEquipmentAndItsDeparture) {
     cnc.add_requester("mh1", Service::MaterialLoad);
     cnc.start();
     std::unique_lock<std::mutex> l(m);
+    // Its announcement, its request item once (a change: nothing repeats
+    // it) and its heartbeats, which announce that change.
     ASSERT_TRUE(cv.wait_for(l, kTimeout, [&] {
-      return !devices.empty() &&
+      return !devices.empty() && heartbeats >= 3 &&
              std::any_of(values.begin(), values.end(), [](const ObservedValue& v) {
-               return v.data_item_id == "mh1_material_load_request" && v.heartbeat_count > 0;
+               return v.data_item_id == "mh1_material_load_request";
              });
     }));
+    EXPECT_EQ(std::count_if(values.begin(), values.end(),
+                            [](const ObservedValue& v) {
+                              return v.data_item_id == "mh1_material_load_request";
+                            }),
+              1);
     ASSERT_EQ(devices[0].interfaces.size(), 1u);
     EXPECT_EQ(devices[0].interfaces[0].data_items.size(), 2u);  // INTERFACE_STATE + request
   }

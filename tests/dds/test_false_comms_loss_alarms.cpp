@@ -5,6 +5,8 @@
 // instance handles of one key also varied (stale padding hashed into the key,
 // docs/endurance.md), leaving stale instances behind. Either way a silent
 // instance of the counterpart device used to fail a healthy link every lease.
+// Only heartbeats carry a DEADLINE now, so the silent instance here is a
+// heartbeat group of the counterpart device that stopped beating.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -16,11 +18,10 @@
 
 #include "equipment_fixture.hpp"
 #include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/heartbeat_writer.hpp"
 #include "mtc/dds/detail/topics.hpp"
-#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
-#include "mtc/idl/type_support.hpp"
+#include "mtc/dds/domain_observer.hpp"
 #include "mtc/qos/participant_qos.hpp"
-#include "mtc/qos/presets.hpp"
 
 namespace mtc::dds::testing {
 
@@ -30,32 +31,23 @@ namespace {
 
 using core::InterfaceType;
 
-// A second writer of the counterpart device (say a retired tool of it) that
-// published one item once and now only asserts its liveliness: the writer
-// is alive, that instance is silent for good.
-class SilentItemWriter {
+// A second participant of the counterpart device (say a retired tool of it)
+// that heartbeats for a group of its own until told to go silent, then only
+// asserts its liveliness: the writer is alive, that instance is silent for
+// good and misses its deadline every lease.
+class SilentHeartbeat {
  public:
-  SilentItemWriter(int domain, const std::string& uuid, const std::string& interface_id)
+  SilentHeartbeat(int domain, const std::string& uuid)
       : participant_(domain, qos::participant_qos({})),
-        publisher_(participant_, {topics::device_partition(uuid)}) {
-    participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
-    topic_ = std::make_unique<Topic>(participant_, topics::kInteractionResponse,
-                                     "mtc::idl::InteractionSample", qos::state_topic().topic_qos());
-    writer_ = std::make_unique<Writer<idl::InteractionSample>>(
-        publisher_, *topic_, qos::state_topic().writer_qos(), listener_);
-    idl::InteractionSample s;
-    s.device_uuid(uuid);
-    s.interface_id(interface_id);
-    s.data_item_id(item_id(interface_id));
-    s.service(topics::to_idl(core::Service::MaterialUnload));
-    s.sub_type(topics::to_idl(core::SubType::Response));
-    s.state(topics::to_idl(core::InteractionState::NotReady));
-    s.sequence_number(1);
-    s.source_time_ns(topics::realtime_ns());
-    writer_->write(s);
+        publisher_(participant_, {topics::device_partition(uuid)}),
+        heartbeat_(participant_, publisher_, uuid, kGroup) {
     thread_ = std::thread([this] { keep_alive(); });
   }
-  ~SilentItemWriter() {
+  void go_silent() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    silent_ = true;
+  }
+  ~SilentHeartbeat() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stop_ = true;
@@ -63,9 +55,7 @@ class SilentItemWriter {
     cv_.notify_all();
     thread_.join();
   }
-  static std::string item_id(const std::string& interface_id) {
-    return interface_id + "_retired_item";
-  }
+  static constexpr std::uint32_t kGroup = 7;
 
  private:
   // MANUAL_BY_TOPIC liveliness without samples (a timer, not a
@@ -73,39 +63,47 @@ class SilentItemWriter {
   void keep_alive() {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return stop_; })) {
-      writer_->assert_liveliness();
+      if (silent_) {
+        heartbeat_.assert_liveliness();
+      } else {
+        heartbeat_.beat();
+      }
     }
   }
 
-  struct QuietListener : fdds::DataWriterListener {};
   Participant participant_;
   Publisher publisher_;
-  QuietListener listener_;
-  std::unique_ptr<Topic> topic_;
-  std::unique_ptr<Writer<idl::InteractionSample>> writer_;
+  HeartbeatWriter heartbeat_;
   std::mutex mutex_;
   std::condition_variable cv_;
   bool stop_ = false;
+  bool silent_ = false;
   std::thread thread_;
 };
 
 TEST(FalseAlarms, SilentInstanceOfALiveCounterpartDoesNotLoseTheLink) {
   Recorder rec;
-  std::atomic<bool> saw_silent_item{false};
-  auto cb = rec.callbacks();
-  cb.on_counterpart_value = [&](const ObservedValue& v) {
-    if (v.data_item_id == SilentItemWriter::item_id("mh1")) saw_silent_item = true;
-    rec.notify();
-  };
-  Equipment cnc(options(56, "cnc-fa"), cb);
+  Equipment cnc(options(56, "cnc-fa"), rec.callbacks());
   Equipment robot(options(56, "robot-fa"));
   cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-fa", "mh1"}});
   robot.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"cnc-fa", "mh1"}});
-  SilentItemWriter retired(56, "robot-fa", "mh1");
   cnc.start();
   robot.start();
   ASSERT_TRUE(rec.wait_link(cnc, "mh1", LinkState::Up)) << rec.dump();
-  ASSERT_TRUE(rec.wait([&] { return saw_silent_item.load(); })) << rec.dump();
+  // An observer of the domain counts the extra group's heartbeats; once it
+  // has seen a few, cnc-fa (matched as early) holds that instance too.
+  std::atomic<int> extra_beats{0};
+  DomainObserverCallbacks ocb;
+  ocb.on_heartbeat = [&](const ObservedHeartbeat& h) {
+    if (h.device_uuid == "robot-fa" && h.group == SilentHeartbeat::kGroup) ++extra_beats;
+    rec.notify();
+  };
+  DomainObserverOptions oo;
+  oo.domain_id = 56;
+  DomainObserver observer(oo, ocb);
+  SilentHeartbeat retired(56, "robot-fa");
+  ASSERT_TRUE(rec.wait([&] { return extra_beats.load() >= 3; }));
+  retired.go_silent();
 
   // Five leases (default timing: 100 ms x 3) during which the silent
   // instance misses its deadline again and again while robot-fa heartbeats.

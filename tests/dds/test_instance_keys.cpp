@@ -44,6 +44,13 @@ class HandleCounter : public fdds::DataReaderListener {
       cv_.notify_all();
     }
   }
+  // Whether `count` items have each arrived `samples` times.
+  bool seen(std::size_t count, int samples) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::size_t ready = 0;
+    for (const auto& [key, item] : items_) ready += item.samples >= samples ? 1 : 0;
+    return ready >= count;
+  }
   // Until `count` items have each arrived `samples` times.
   bool wait_for(std::size_t count, int samples) {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -57,6 +64,12 @@ class HandleCounter : public fdds::DataReaderListener {
     std::set<InstanceHandle_t> handles;
     int samples = 0;
   };
+  std::string summary() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::string out;
+    for (const auto& [key, seen] : items_) out += key + ": " + std::to_string(seen.samples) + "\n";
+    return out;
+  }
   std::map<std::string, Seen> items() {
     std::lock_guard<std::mutex> lock(mutex_);
     return items_;
@@ -100,7 +113,7 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   robot.add_interface({"door_one", InterfaceType::Door, "", {"c", "door_one"}});
   auto& load = cnc.add_requester("mh", Service::MaterialLoad);
   auto& unload = cnc.add_requester("mh", Service::MaterialUnload);
-  robot.add_requester("door_one", Service::OpenDoor);
+  auto& open = robot.add_requester("door_one", Service::OpenDoor);
   ResponderCallbacks complete_at_once;
   complete_at_once.on_request = [](Responder& r) { r.complete(); };
   robot.add_responder("mh", Service::MaterialLoad, complete_at_once);
@@ -120,14 +133,17 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
 
   cnc.start();
   robot.start();
+  // Items are written on change only: handshakes until the test's readers
+  // (matched by the writers at some point of them) have seen each of the
+  // six interaction items change a few times.
   RequestOptions wait;
   wait.wait_for_ready = kTimeout;
-  for (int i = 0; i < 5; ++i) {
+  for (int i = 0; i < 50 && !counter.seen(6, 6); ++i) {
     ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed);
     ASSERT_EQ(unload.request(wait).get().outcome, Outcome::Completed);
+    ASSERT_EQ(open.request(wait).get().outcome, Outcome::Completed);
   }
-  // Six interaction items, each re-published every heartbeat (100 ms).
-  ASSERT_TRUE(counter.wait_for(6, 20));
+  ASSERT_TRUE(counter.wait_for(6, 6)) << counter.summary();
   for (const auto& [key, seen] : counter.items()) {
     ASSERT_EQ(seen.handles.size(), 1u)
         << key << " arrived under " << seen.handles.size() << " instance handles";

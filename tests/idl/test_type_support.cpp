@@ -111,4 +111,40 @@ TEST(TypeSupport, EveryTopicTypeHashesItsKeyOnly) {
   EXPECT_EQ(hd1, hd2);
 }
 
+// The heartbeat's key is (device_uuid, group): a string then an unsigned
+// long, whose alignment padding must be zero too.
+TEST(TypeSupport, HeartbeatKeyIsDeviceAndGroup) {
+  auto type = mtc::idl::type_support<mtc::idl::HeartbeatPubSubType>();
+  auto heartbeat = [](const std::string& device, std::uint32_t group) {
+    mtc::idl::Heartbeat h;
+    h.device_uuid(device);
+    h.group(group);
+    return h;
+  };
+  auto key = [&type](mtc::idl::Heartbeat h) {
+    InstanceHandle_t out;
+    EXPECT_TRUE(type.get_key(&h, &out));
+    return out;
+  };
+  const auto first = key(heartbeat("cell-robot", 1));
+  key(heartbeat("a-much-longer-device-uuid-xyz", 7));
+  auto beating = heartbeat("cell-robot", 1);
+  beating.beat(42);  // not a key field
+  beating.request_changes(3);
+  EXPECT_EQ(key(beating), first);
+  EXPECT_NE(key(heartbeat("cell-robot", 0)), first);
+  // Big-endian CDR: "cell-robot" (4 + 11 bytes), 1 byte of zero padding, group.
+  std::vector<unsigned char> cdr;
+  append_cdr_string(cdr, "cell-robot");
+  while (cdr.size() % 4 != 0) cdr.push_back(0);
+  for (int shift = 24; shift >= 0; shift -= 8)
+    cdr.push_back(static_cast<unsigned char>(1 >> shift));
+  MD5 md5;
+  md5.update(cdr.data(), static_cast<MD5::size_type>(cdr.size()));
+  md5.finalize();
+  InstanceHandle_t expected;
+  std::memcpy(expected.value, md5.digest, 16);
+  EXPECT_EQ(first, expected);
+}
+
 }  // namespace

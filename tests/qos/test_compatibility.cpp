@@ -27,6 +27,19 @@ ReaderEndpoint reader() {
           {"mtc/dev/*"}};
 }
 
+WriterEndpoint heartbeat_writer() {
+  return {"mtc/Heartbeat",
+          "mtc::idl::Heartbeat",
+          mtc::qos::heartbeat_topic().writer_qos(),
+          {"mtc/dev/robot"}};
+}
+ReaderEndpoint heartbeat_reader() {
+  return {"mtc/Heartbeat",
+          "mtc::idl::Heartbeat",
+          mtc::qos::heartbeat_topic().reader_qos(),
+          {"mtc/dev/*"}};
+}
+
 bool mentions(const mtc::qos::Compatibility& c, const std::string& word) {
   return std::any_of(c.reasons.begin(), c.reasons.end(),
                      [&](const std::string& r) { return r.find(word) != std::string::npos; });
@@ -36,19 +49,20 @@ TEST(Compatibility, PresetEndpointsMatch) {
   const auto c = check_compatibility(writer(), reader());
   EXPECT_TRUE(c.compatible);
   EXPECT_TRUE(c.reasons.empty());
+  EXPECT_TRUE(check_compatibility(heartbeat_writer(), heartbeat_reader()).compatible);
 }
 
 TEST(Compatibility, ObserverAcceptsLeasesUpToItsOwn) {
   mtc::qos::Timing observer_timing;
   observer_timing.missed_heartbeats = 5;  // lease 500 ms
-  ReaderEndpoint observer = reader();
-  observer.qos = mtc::qos::state_observer_topic(observer_timing).reader_qos();
+  ReaderEndpoint observer = heartbeat_reader();
+  observer.qos = mtc::qos::heartbeat_observer_topic(observer_timing).reader_qos();
   mtc::qos::Timing device;  // 100 ms x 3: lease and deadline 300 ms
-  WriterEndpoint w = writer();
-  w.qos = mtc::qos::state_topic(device).writer_qos();
+  WriterEndpoint w = heartbeat_writer();
+  w.qos = mtc::qos::heartbeat_topic(device).writer_qos();
   EXPECT_TRUE(check_compatibility(w, observer).compatible);
   device.missed_heartbeats = 6;  // lease 600 ms: longer than the observer's
-  w.qos = mtc::qos::state_topic(device).writer_qos();
+  w.qos = mtc::qos::heartbeat_topic(device).writer_qos();
   const auto c = check_compatibility(w, observer);
   EXPECT_FALSE(c.compatible);
   EXPECT_TRUE(mentions(c, "liveliness"));
@@ -72,18 +86,18 @@ TEST(Compatibility, VolatileWriterCannotServeTransientLocalReader) {
 }
 
 TEST(Compatibility, OfferedDeadlineLongerThanRequested) {
-  auto w = writer();
+  auto w = heartbeat_writer();
   w.qos.deadline().period = mtc::qos::to_duration(500ms);
-  const auto c = check_compatibility(w, reader());
+  const auto c = check_compatibility(w, heartbeat_reader());
   EXPECT_FALSE(c.compatible);
   EXPECT_TRUE(mentions(c, "deadline: writer offers a period of 500 ms")) << c.reasons.at(0);
 }
 
 TEST(Compatibility, LivelinessKindAndLease) {
-  auto w = writer();
+  auto w = heartbeat_writer();
   w.qos.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
   w.qos.liveliness().lease_duration = mtc::qos::to_duration(1s);
-  const auto c = check_compatibility(w, reader());
+  const auto c = check_compatibility(w, heartbeat_reader());
   EXPECT_FALSE(c.compatible);
   EXPECT_EQ(c.reasons.size(), 2u);
   EXPECT_TRUE(mentions(c, "MANUAL_BY_TOPIC but writer offers the weaker AUTOMATIC"));
@@ -115,12 +129,15 @@ TEST(Compatibility, PartitionsTopicAndTypeAreExplained) {
 TEST(Compatibility, StrongerOfferIsFine) {
   // A writer may offer more than requested: reliable to best-effort reader,
   // shorter deadline, shorter lease.
-  auto r = reader();
+  auto r = heartbeat_reader();
   r.qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
-  r.qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
   r.qos.deadline().period = mtc::qos::to_duration(10s);
   r.qos.liveliness().lease_duration = mtc::qos::to_duration(10s);
-  EXPECT_TRUE(check_compatibility(writer(), r).compatible);
+  EXPECT_TRUE(check_compatibility(heartbeat_writer(), r).compatible);
+  auto state = reader();
+  state.qos.reliability().kind = fdds::BEST_EFFORT_RELIABILITY_QOS;
+  state.qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
+  EXPECT_TRUE(check_compatibility(writer(), state).compatible);
 }
 
 TEST(Partitions, WildcardsAndDefault) {

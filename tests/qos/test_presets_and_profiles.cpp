@@ -26,36 +26,58 @@ TEST(Presets, StateTopicHoldsDocumentedPolicies) {
   EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(w.history().kind, fdds::KEEP_LAST_HISTORY_QOS);
   EXPECT_EQ(w.history().depth, 1);
-  EXPECT_EQ(w.deadline().period, to_duration(300ms));
-  EXPECT_EQ(w.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
-  EXPECT_EQ(w.liveliness().lease_duration, to_duration(300ms));
+  // Changes only: an unchanged item is silent, liveness is the heartbeat's.
+  EXPECT_EQ(w.deadline().period, eprosima::fastrtps::c_TimeInfinite);
+  EXPECT_EQ(w.liveliness().kind, fdds::AUTOMATIC_LIVELINESS_QOS);
+  EXPECT_EQ(w.liveliness().lease_duration, eprosima::fastrtps::c_TimeInfinite);
   EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(20ms));
   EXPECT_GE(w.resource_limits().max_instances, 1024);
   const auto r = mtc::qos::state_topic().reader_qos();
   EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
-  EXPECT_EQ(r.deadline().period, to_duration(300ms));
-  EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+  EXPECT_EQ(r.deadline().period, eprosima::fastrtps::c_TimeInfinite);
+  EXPECT_EQ(r.liveliness().kind, fdds::AUTOMATIC_LIVELINESS_QOS);
   EXPECT_EQ(r.history().depth, 8);  // bursts are handed over, not collapsed
   EXPECT_EQ(r.resource_limits().max_samples_per_instance, 8);
 }
 
-TEST(Presets, ObserverReadsStateTopicsByLivelinessWithoutDeadline) {
-  const auto r = mtc::qos::state_observer_topic().reader_qos();
+TEST(Presets, HeartbeatTopicCarriesDeadlineAndLiveliness) {
+  const auto w = mtc::qos::heartbeat_topic().writer_qos();
+  EXPECT_EQ(w.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
+  EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  EXPECT_EQ(w.history().depth, 1);
+  EXPECT_EQ(w.deadline().period, to_duration(300ms));
+  EXPECT_EQ(w.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+  EXPECT_EQ(w.liveliness().lease_duration, to_duration(300ms));
+  EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(20ms));
+  const auto r = mtc::qos::heartbeat_topic().reader_qos();
+  EXPECT_EQ(r.deadline().period, to_duration(300ms));
+  EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+  EXPECT_EQ(r.liveliness().lease_duration, to_duration(300ms));
+  EXPECT_EQ(r.history().depth, 1);
+}
+
+TEST(Presets, ObserverReadsHeartbeatsByLivelinessWithoutDeadline) {
+  const auto r = mtc::qos::heartbeat_observer_topic().reader_qos();
   EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(r.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(r.deadline().period, eprosima::fastrtps::c_TimeInfinite);
   EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
   EXPECT_EQ(r.liveliness().lease_duration, to_duration(300ms));
-  EXPECT_EQ(r.history().depth, 8);
   EXPECT_EQ(r.resource_limits().max_instances, 16384);
-  // Otherwise the same reader as the equipment's.
+  // The observer's state reader is the equipment's.
+  const auto state = mtc::qos::state_observer_topic().reader_qos();
   const auto equipment = mtc::qos::state_topic().reader_qos();
-  EXPECT_EQ(r.resource_limits().max_samples, equipment.resource_limits().max_samples);
-  EXPECT_EQ(r.ownership().kind, equipment.ownership().kind);
+  EXPECT_EQ(state.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
+  EXPECT_EQ(state.history().depth, equipment.history().depth);
+  EXPECT_EQ(state.resource_limits().max_instances, 16384);
+  EXPECT_EQ(state.resource_limits().max_samples, equipment.resource_limits().max_samples);
+  EXPECT_EQ(state.ownership().kind, equipment.ownership().kind);
+  EXPECT_EQ(state.liveliness().kind, equipment.liveliness().kind);
 }
 
 TEST(Presets, ReadersHoldEveryDevicesInstancesWritersTheirOwn) {
-  for (const auto& preset : {mtc::qos::state_topic(), mtc::qos::device_description_topic()}) {
+  for (const auto& preset : {mtc::qos::state_topic(), mtc::qos::device_description_topic(),
+                             mtc::qos::heartbeat_topic()}) {
     EXPECT_EQ(preset.writer_qos().resource_limits().max_instances, 1024);
     EXPECT_EQ(preset.reader_qos().resource_limits().max_instances, 16384);
   }
@@ -66,17 +88,20 @@ TEST(Presets, TimingIsConfigurablePerInterface) {
   t.heartbeat = 50ms;
   t.missed_heartbeats = 4;
   t.reliable_heartbeat = 10ms;
-  const auto w = mtc::qos::state_topic(t).writer_qos();
+  const auto w = mtc::qos::heartbeat_topic(t).writer_qos();
   EXPECT_EQ(w.deadline().period, to_duration(200ms));
   EXPECT_EQ(w.liveliness().lease_duration, to_duration(200ms));
   EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(10ms));
+  EXPECT_EQ(mtc::qos::state_topic(t).writer_qos().reliable_writer_qos().times.heartbeatPeriod,
+            to_duration(10ms));
 }
 
-TEST(Presets, DeviceDescriptionHasLivelinessButNoDeadline) {
+TEST(Presets, DeviceDescriptionHasNeitherDeadlineNorLease) {
   const auto w = mtc::qos::device_description_topic().writer_qos();
   EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(w.deadline().period, eprosima::fastrtps::c_TimeInfinite);
-  EXPECT_EQ(w.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
+  EXPECT_EQ(w.liveliness().kind, fdds::AUTOMATIC_LIVELINESS_QOS);
+  EXPECT_EQ(w.liveliness().lease_duration, eprosima::fastrtps::c_TimeInfinite);
 }
 
 TEST(Presets, BadTimingIsRejectedWithAReason) {
@@ -91,6 +116,7 @@ TEST(Presets, BadTimingIsRejectedWithAReason) {
   EXPECT_THROW(mtc::qos::state_topic(t), std::invalid_argument);
   EXPECT_THROW(mtc::qos::preset("no.such.preset"), std::invalid_argument);
   EXPECT_NO_THROW(mtc::qos::preset("mtc.device_description"));
+  EXPECT_NO_THROW(mtc::qos::preset("mtc.heartbeat_observer"));
 }
 
 class XmlProfiles : public ::testing::Test {
@@ -138,7 +164,8 @@ void expect_same_reader(const std::string& profile, const fdds::DataReaderQos& c
 }
 
 TEST_F(XmlProfiles, EndpointProfilesMatchCodePresets) {
-  for (const auto name : {mtc::qos::kStateProfile, mtc::qos::kDeviceDescriptionProfile}) {
+  for (const auto name : {mtc::qos::kStateProfile, mtc::qos::kDeviceDescriptionProfile,
+                          mtc::qos::kHeartbeatProfile}) {
     const auto preset = mtc::qos::preset(name);
     expect_same_writer(std::string(name) + ".writer", preset.writer_qos());
     expect_same_reader(std::string(name) + ".reader", preset.reader_qos());
@@ -146,6 +173,8 @@ TEST_F(XmlProfiles, EndpointProfilesMatchCodePresets) {
   // An observer only reads.
   expect_same_reader(std::string(mtc::qos::kStateObserverProfile) + ".reader",
                      mtc::qos::state_observer_topic().reader_qos());
+  expect_same_reader(std::string(mtc::qos::kHeartbeatObserverProfile) + ".reader",
+                     mtc::qos::heartbeat_observer_topic().reader_qos());
 }
 
 TEST_F(XmlProfiles, EveryPresetHasAReaderProfile) {

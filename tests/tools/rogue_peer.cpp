@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/heartbeat_writer.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
@@ -36,17 +37,23 @@ struct RoguePeer::Impl {
                     qos::participant_qos({"rogue-" + device, qos::Transport::LoopbackUdp, {}, t})) {
   }
 
-  // Writes the current value; repeat = heartbeat of an unchanged value.
-  void publish(bool repeat) {
+  // Writes the current value as a change.
+  void publish() {
     std::lock_guard<std::mutex> lock(mutex);
-    if (repeat) {
-      sample.heartbeat_count(sample.heartbeat_count() + 1);
-    } else {
-      sample.sequence_number(sample.sequence_number() + 1);
-      sample.heartbeat_count(0);
-      sample.source_time_ns(dds::detail::topics::realtime_ns());
-    }
+    sample.sequence_number(sample.sequence_number() + 1);
+    sample.source_time_ns(dds::detail::topics::realtime_ns());
     writer->write(sample);
+  }
+
+  // The heartbeat, announcing the newest change.
+  void beat() {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (sample.sub_type() == idl::sub_types::REQUEST) {
+      heartbeat->sample().request_changes(sample.sequence_number());
+    } else {
+      heartbeat->sample().response_changes(sample.sequence_number());
+    }
+    heartbeat->beat();
   }
 
   void heartbeat_loop() {
@@ -54,7 +61,7 @@ struct RoguePeer::Impl {
     // A periodic timer (the heartbeat contract), not synchronisation.
     while (!stop_cv.wait_for(lock, timing.heartbeat, [&] { return stopping; })) {
       lock.unlock();
-      publish(true);
+      beat();
       lock.lock();
     }
   }
@@ -65,6 +72,7 @@ struct RoguePeer::Impl {
   std::unique_ptr<dds::detail::Publisher> publisher;
   Listener listener;
   std::unique_ptr<dds::detail::Writer<idl::InteractionSample>> writer;
+  std::unique_ptr<dds::detail::HeartbeatWriter> heartbeat;
   std::mutex mutex;
   idl::InteractionSample sample;
 
@@ -77,7 +85,7 @@ struct RoguePeer::Impl {
   std::mutex stop_mutex;
   std::condition_variable stop_cv;
   bool stopping = false;
-  std::thread heartbeat;
+  std::thread heartbeat_thread;
 };
 
 RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& interface_id,
@@ -96,6 +104,8 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
       i.participant, std::vector<std::string>{dds::detail::topics::device_partition(device)});
   i.writer = std::make_unique<dds::detail::Writer<idl::InteractionSample>>(
       *i.publisher, *i.topic, qos::state_topic(i.timing).writer_qos(), i.listener);
+  i.heartbeat = std::make_unique<dds::detail::HeartbeatWriter>(i.participant, *i.publisher, device,
+                                                               0, i.timing);
   i.sample.device_uuid(device);
   i.sample.data_item_id(dds::detail::topics::interaction_item_id(interface_id, service, own_side));
   i.sample.interface_id(interface_id);
@@ -127,8 +137,9 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
     i.seen_cv.notify_all();
   };
   i.observer = std::make_unique<dds::DomainObserver>(options, std::move(callbacks));
-  i.publish(false);
-  i.heartbeat = std::thread([&i] { i.heartbeat_loop(); });
+  i.publish();
+  i.beat();
+  i.heartbeat_thread = std::thread([&i] { i.heartbeat_loop(); });
 }
 
 RoguePeer::~RoguePeer() {
@@ -137,7 +148,7 @@ RoguePeer::~RoguePeer() {
     impl_->stopping = true;
   }
   impl_->stop_cv.notify_all();
-  impl_->heartbeat.join();
+  impl_->heartbeat_thread.join();
 }
 
 void RoguePeer::set_state(core::InteractionState state) {
@@ -145,7 +156,7 @@ void RoguePeer::set_state(core::InteractionState state) {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     impl_->sample.state(dds::detail::topics::to_idl(state));
   }
-  impl_->publish(false);
+  impl_->publish();
 }
 
 bool RoguePeer::wait_counterpart(core::InteractionState state, std::chrono::milliseconds timeout) {

@@ -3,7 +3,7 @@
 // NOT_READY while the service is ACTIVE). The runtime refuses to publish such
 // states, so the test process plays that peer itself: it publishes one
 // interaction data item exactly as the runtime would (same topics, partition,
-// keys and QoS, re-published every heartbeat) with whatever state the test
+// keys and QoS, changes only, with a heartbeat) with whatever state the test
 // dictates, and watches its counterpart through a DomainObserver. Its lease
 // is 10 x 100 ms, the default of the `mtc` processes in these tests.
 #pragma once

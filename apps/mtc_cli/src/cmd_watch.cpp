@@ -1,6 +1,7 @@
 // `mtc watch`: a live view of every device, interface and data item on a
 // domain, one line per transition with source time, reception time and the
-// latency between them. Items whose writer lost liveliness turn UNAVAILABLE.
+// latency between them. Items whose device's heartbeats stopped turn
+// UNAVAILABLE, and come back with their last value when they resume.
 #include <map>
 #include <mutex>
 #include <string>
@@ -46,14 +47,15 @@ class WatchPrinter {
       previous = slot.empty() ? "-" : slot;
       slot = text;
     }
-    const bool repeat = previous == text && v.heartbeat_count > 0;
-    if (repeat && !heartbeats_) {
+    // The same value again (a device writes an unchanged item again to keep
+    // its writer's history short): not a transition.
+    if (previous == text) {
       return;
     }
     const std::int64_t latency = v.reception_time_ns - v.source_time_ns;
     if (json_) {
       JsonLine line;
-      line.field("event", repeat ? "heartbeat" : "value")
+      line.field("event", "value")
           .field("device", v.device_uuid)
           .field("interface", v.interface_id)
           .field("item", v.data_item_id)
@@ -62,7 +64,8 @@ class WatchPrinter {
           .field("previous", previous)
           .field("value", text)
           .field("sequence", v.sequence_number)
-          .field("heartbeat", v.heartbeat_count)
+          .field("heartbeat_group", static_cast<std::uint64_t>(v.heartbeat_group))
+          .field("redelivered", v.redelivered)
           .field("source_time_ns", v.source_time_ns)
           .field("reception_time_ns", v.reception_time_ns)
           .field("latency_ms", static_cast<double>(latency) / 1e6);
@@ -72,7 +75,39 @@ class WatchPrinter {
     out_.line(format_utc(v.reception_time_ns) + "  " + v.device_uuid + "/" + v.interface_id + "  " +
               item_label(v) + "  " + previous + " -> " + text + "  (source " +
               format_utc(v.source_time_ns) + ", latency " + format_ms(latency) + ", seq " +
-              std::to_string(v.sequence_number) + (repeat ? ", heartbeat" : "") + ")");
+              std::to_string(v.sequence_number) + (v.redelivered ? ", last value again" : "") +
+              ")");
+  }
+
+  // With --heartbeats: every heartbeat, with the change numbers it announces.
+  void heartbeat(const dds::ObservedHeartbeat& h) {
+    if (!heartbeats_) {
+      return;
+    }
+    if (json_) {
+      JsonLine line;
+      out_.line(line.field("event", "heartbeat")
+                    .field("device", h.device_uuid)
+                    .field("group", static_cast<std::uint64_t>(h.group))
+                    .field("beat", h.beat)
+                    .field("period_ms", static_cast<std::uint64_t>(h.period_ms))
+                    .field("lease_ms", static_cast<std::uint64_t>(h.lease_ms))
+                    .field("request_changes", h.request_changes)
+                    .field("response_changes", h.response_changes)
+                    .field("interface_state_changes", h.interface_state_changes)
+                    .field("door_state_changes", h.door_state_changes)
+                    .field("chuck_state_changes", h.chuck_state_changes)
+                    .field("source_time_ns", h.source_time_ns)
+                    .field("reception_time_ns", h.reception_time_ns)
+                    .str());
+      return;
+    }
+    out_.line(format_utc(h.reception_time_ns) + "  " + h.device_uuid + "  heartbeat group " +
+              std::to_string(h.group) + " #" + std::to_string(h.beat) + "  (every " +
+              std::to_string(h.period_ms) + " ms, lease " + std::to_string(h.lease_ms) +
+              " ms; changes: request " + std::to_string(h.request_changes) + ", response " +
+              std::to_string(h.response_changes) + ", interface state " +
+              std::to_string(h.interface_state_changes) + ")");
   }
 
   void items_lost(const std::string& device, const std::vector<std::string>& items) {
@@ -102,7 +137,7 @@ class WatchPrinter {
       } else {
         std::string text = format_utc(now);
         text += "  " + device + "/" + label + "  " + previous;
-        text += " -> UNAVAILABLE  (writer lost: liveliness or disposal)";
+        text += " -> UNAVAILABLE  (heartbeats stopped, or disposed)";
         out_.line(text);
       }
     }
@@ -147,6 +182,9 @@ int run_watch(const ParsedArgs& args, Context& context) {
     printer.items_lost(dev, items);
   };
   callbacks.on_device_lost = [&](const std::string& dev) { printer.device_lost(dev); };
+  if (args.has("heartbeats")) {
+    callbacks.on_heartbeat = [&](const dds::ObservedHeartbeat& h) { printer.heartbeat(h); };
+  }
   dds::DomainObserver observer(options, std::move(callbacks));
   StartNotice notice;
   notice.json.field("event", "watching").field("domain", common.domain);
@@ -171,14 +209,15 @@ Command watch_command() {
       "Prints each device announcement and every state transition of every interface\n"
       "data item (REQUEST/RESPONSE of each service, INTERFACE_STATE, DOOR_STATE,\n"
       "CHUCK_STATE) as it arrives: previous -> new value, the writer's source time, the\n"
-      "local reception time and the latency between them. When a writer stops\n"
-      "asserting liveliness (crash, cable pull) its items are shown as UNAVAILABLE.\n"
-      "Periodic heartbeat repeats of an unchanged value are hidden unless --heartbeats.\n"
+      "local reception time and the latency between them. Devices write changes only\n"
+      "and a heartbeat per timing group: when a device's heartbeats stop (crash, cable\n"
+      "pull) its items are shown as UNAVAILABLE, and with their last value again when\n"
+      "the heartbeats resume. --heartbeats also prints every heartbeat.\n"
       "Runs until Ctrl-C / SIGTERM or --duration.";
   spec.options = {
       {"duration", "TIME", "stop after this long (e.g. 30s, 500ms, 2m)", "until Ctrl-C"},
       {"device", "UUID", "only this device (repeatable)", "all devices", false, true},
-      {"heartbeats", "", "also print heartbeat repeats of unchanged values", ""},
+      {"heartbeats", "", "also print every device heartbeat (10/s per device by default)", ""},
   };
   add_observer_options(spec);
   add_common_options(spec);

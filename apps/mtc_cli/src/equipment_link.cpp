@@ -101,7 +101,7 @@ void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
   e.state = v.state.interaction().value_or(core::InteractionState::Unavailable);
   e.source_time_ns = v.source_time_ns;
   e.sequence_number = v.sequence_number;
-  e.heartbeat_count = v.heartbeat_count;
+  e.redelivered = v.redelivered;
   e.reception_time_ns = v.reception_time_ns;
   events.push(std::move(e));
 }

@@ -75,12 +75,12 @@ void HandshakeTrace::transition(bool own, const LinkEvent& e) {
         .field("state", state)
         .field("t_ms", t);
     if (!own) {
-      // heartbeat > 0: this change reached us only through a periodic
-      // re-publication (the change sample itself was lost or replaced).
+      // redelivered: not a new change but the last known value, handed
+      // over again when the link came back after a loss.
       line.field("latency_ms", static_cast<double>(latency) / 1e6)
           .field("source_time_ns", e.source_time_ns)
           .field("sequence", e.sequence_number)
-          .field("heartbeat", e.heartbeat_count);
+          .field("redelivered", e.redelivered);
     }
     out_.line(line.field("time_ns", e.reception_time_ns).str());
     return;

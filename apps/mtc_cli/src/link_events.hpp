@@ -38,7 +38,7 @@ struct LinkEvent {
   core::Reason reason = core::Reason::None;
   std::int64_t source_time_ns = 0;     // writer's clock, counterpart samples only
   std::uint64_t sequence_number = 0;   // counterpart samples: writer's change counter
-  std::uint64_t heartbeat_count = 0;   // > 0: the change was first seen in a heartbeat
+  bool redelivered = false;            // the last known value again, after a loss
   std::int64_t reception_time_ns = 0;  // local wall clock when it happened
   Result result = Result::Fail;        // RequestDone
   std::string detail;                  // cause of a loss, diagnostics

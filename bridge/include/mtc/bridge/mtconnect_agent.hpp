@@ -97,10 +97,11 @@ class MtconnectAgent : public Agent {
   // way the device's AVAILABILITY item (if any) becomes AVAILABLE.
   virtual void add_device(const core::ObservedDevice& device) = 0;
   // One value. Appended only when it differs from the item's latest value
-  // (heartbeat repeats are dropped). Values for items the model lacks are
+  // (an unchanged value, e.g. the last one handed over again after a loss,
+  // is dropped). Values for items the model lacks are
   // counted in stats() and dropped.
   virtual void add_value(const core::ObservedValue& value) = 0;
-  // The writer of these items lost liveliness: each reads UNAVAILABLE.
+  // The heartbeats that vouch for these items stopped: each reads UNAVAILABLE.
   virtual void items_lost(const std::string& device_uuid,
                           const std::vector<std::string>& data_item_ids) = 0;
   // The device's announcement writer is gone: every item of the device,

@@ -93,7 +93,10 @@ class ObservedState {
 // outside the vocabulary reads "INVALID(<number>)".
 std::string to_string(const ObservedState& state);
 
-// One sample of one data item.
+// One value of one data item: a change as it arrived, or the last known
+// value handed over again once its device's heartbeats came back after a
+// loss (`redelivered`; devices write changes only, so nothing else would
+// restore it).
 struct ObservedValue {
   std::string device_uuid;
   std::string data_item_id;
@@ -102,11 +105,30 @@ struct ObservedValue {
   std::optional<SubType> sub_type;     // set for Interaction items
   ObservedState state;                 // its kind() is the item's kind
   std::uint64_t sequence_number = 0;   // writer's change counter
-  std::uint64_t heartbeat_count = 0;   // > 0: periodic repeat, not a change
+  std::uint32_t heartbeat_group = 0;   // the device's heartbeat that vouches for it
+  bool redelivered = false;            // true: last known value again, not a new sample
   std::int64_t source_time_ns = 0;     // writer clock, ns since the epoch
   std::int64_t reception_time_ns = 0;  // local clock at reception
 
   ItemKind kind() const noexcept { return state.kind(); }
+};
+
+// One heartbeat of one timing group of a device: it is alive, and these are
+// the newest change numbers (sequence_number) of the group's writers per item
+// kind; 0 = no change written yet.
+struct ObservedHeartbeat {
+  std::string device_uuid;
+  std::uint32_t group = 0;  // 0: the device's own timing
+  std::uint32_t period_ms = 0;
+  std::uint32_t lease_ms = 0;
+  std::uint64_t beat = 0;  // heartbeats the group has written, from 1
+  std::uint64_t request_changes = 0;
+  std::uint64_t response_changes = 0;
+  std::uint64_t interface_state_changes = 0;
+  std::uint64_t door_state_changes = 0;
+  std::uint64_t chuck_state_changes = 0;
+  std::int64_t source_time_ns = 0;
+  std::int64_t reception_time_ns = 0;
 };
 
 // A data item as a device announces it (MTConnect attributes, as text: they

@@ -1,6 +1,10 @@
-// Passive view of a DDS domain: every device's announcements and every
-// interface data item, as plain values. Used by the bridge and by the
-// `mtc watch` / `mtc list` commands; it never publishes anything.
+// Passive view of a DDS domain: every device's announcements, every
+// interface data item and every heartbeat, as plain values. Used by the
+// bridge and by the `mtc watch` / `mtc list` commands; it never publishes
+// anything. Devices write their items only when they change and tell that
+// they are alive by heartbeats (one per timing group); the observer reports
+// a group's items lost when its heartbeats stop, and hands their last known
+// values over again when the heartbeats come back.
 //
 // Threading: DDS listeners only copy samples into a queue; every callback
 // below runs on the observer's single dispatch thread, in arrival order.
@@ -26,36 +30,47 @@ namespace mtc::dds {
 using core::ItemKind;
 using core::ObservedDataItem;
 using core::ObservedDevice;
+using core::ObservedHeartbeat;
 using core::ObservedInterface;
 using core::ObservedState;
 using core::ObservedValue;
 
 struct DomainObserverCallbacks {
+  // A device's announcement; again (unchanged) when a lost device's
+  // heartbeats come back.
   std::function<void(const ObservedDevice&)> on_device;
+  // Each change of a data item; after a loss, the last known value again
+  // (ObservedValue::redelivered) once its device's heartbeats are back and
+  // every change they announce has arrived. An item unchanged for long may
+  // also arrive again with the same value (its device keeps its writer's
+  // history short).
   std::function<void(const ObservedValue&)> on_value;
-  // The writer(s) of these data items lost liveliness or were disposed:
-  // their values must now read UNAVAILABLE.
+  // The heartbeats that vouch for these data items stopped (or their device
+  // disposed them, or left): their values must now read UNAVAILABLE.
   std::function<void(const std::string& device_uuid, const std::vector<std::string>& data_item_ids)>
       on_items_lost;
-  // A device's announcement writer lost liveliness (device gone).
+  // The device's own heartbeat (group 0) stopped, or it left: device gone.
   std::function<void(const std::string& device_uuid)> on_device_lost;
+  // Every heartbeat (optional; 10 per second per device at the default).
+  std::function<void(const ObservedHeartbeat&)> on_heartbeat;
 };
 
 struct DomainObserverOptions {
   int domain_id = 0;
   // Endpoint QoS is not selectable: the observer reads state topics with
-  // qos::state_observer_topic(timing) and announcements with
+  // qos::state_observer_topic(timing), heartbeats with
+  // qos::heartbeat_observer_topic(timing) and announcements with
   // qos::device_description_topic(timing), the only presets that match the
   // devices' writers.
   // Only these devices (uuid); empty = all.
   std::vector<std::string> device_filter;
   // Transport of the observer's participant (loopback only by default).
   qos::Transport transport = qos::Transport::Loopback;
-  // The observer requests this liveliness lease from every writer; it must
-  // be at least the longest lease of the observed devices (a device with a
-  // longer lease does not match, which the observer reports on stderr), and
-  // it bounds how soon a lost device is reported. No DEADLINE is requested,
-  // so devices with any heartbeat period match.
+  // The observer requests this liveliness lease from every heartbeat writer;
+  // it must be at least the longest lease of the observed devices (a device
+  // with a longer lease does not match, which the observer reports on
+  // stderr). A device's loss is reported after its own lease. No DEADLINE is
+  // requested, so devices with any heartbeat period match.
   qos::Timing timing;
 };
 

@@ -9,9 +9,11 @@
 //   RequestResult r = load.request().get();   // COMPLETE, FAIL, timed out, comms lost
 //
 // The library publishes this device's data items (one DDS instance each, in
-// partition "mtc/dev/<uuid>", re-published every heartbeat) and a
-// DeviceDescription, subscribes to the counterpart's items, and runs the
-// core state machines (Tables 5/6, scenarios 1-6) against what it sees.
+// partition "mtc/dev/<uuid>", written when they change), a heartbeat per
+// timing group (mtc/Heartbeat, every period, from a thread of its own) and a
+// DeviceDescription, subscribes to the counterpart's items and heartbeats,
+// and runs the core state machines (Tables 5/6, scenarios 1-6) against what
+// it sees.
 //
 // Threading: every application callback runs on this object's single
 // executor thread, in order; DDS listeners only copy and hand off; the core
@@ -20,9 +22,10 @@
 // thread, including from callbacks; they return futures that become ready
 // once the executor has applied them. Never block on such a future inside a
 // callback (the executor would wait for itself), never destroy the Equipment
-// from its own callback, and keep callbacks short: the heartbeat runs on the
-// same thread, so a callback that blocks for a lease looks like a hung
-// device to the peers (which is what it is).
+// from its own callback, and keep callbacks short: the heartbeat thread
+// withholds the heartbeat while the executor makes no progress for a lease,
+// so a callback that blocks for a lease looks like a hung device to the
+// peers (which is what it is).
 #pragma once
 
 #include <chrono>
@@ -102,8 +105,8 @@ struct InterfaceConfig {
   bool publishes_chuck_state = false;
   core::DoorState initial_door_state = core::DoorState::Unavailable;
   core::ChuckState initial_chuck_state = core::ChuckState::Unavailable;
-  // Heartbeat and lease of this interface's data items (DEADLINE and
-  // liveliness of its own writers and readers); default: the equipment's.
+  // Heartbeat and lease of this interface (its timing group's heartbeat
+  // writer and readers: DEADLINE and liveliness); default: the equipment's.
   // The counterpart's interface must use the same (or a faster) timing.
   std::optional<qos::Timing> timing{};
 };
@@ -164,10 +167,26 @@ struct EquipmentCallbacks {
   std::function<void(const TransitionEvent&)> on_transition;
   std::function<void(const LinkEvent&)> on_link;
   // Every value of a paired counterpart (interaction items, INTERFACE_STATE,
-  // DOOR_STATE, CHUCK_STATE), heartbeats included (heartbeat_count > 0).
+  // DOOR_STATE, CHUCK_STATE): each change as it arrives, and after a loss of
+  // communication the last known values again once the counterpart's
+  // heartbeats are back (redelivered = true). A device also writes an item
+  // that has not changed for a long while again (same value and source
+  // time, new sequence number; see docs/heartbeat.md). Heartbeats themselves
+  // are not values.
   std::function<void(const ObservedValue&)> on_counterpart_value;
-  // Diagnostics: incompatible QoS offered by a peer, callback exceptions.
+  // Diagnostics: incompatible QoS offered by a peer, callback exceptions,
+  // heartbeats withheld by the watchdog, announced changes not received.
   std::function<void(const std::string&)> on_diagnostic;
+};
+
+// Samples an Equipment has written and taken since start() (benchmarks,
+// diagnostics). Received counts are per reader: with several timing groups a
+// sample that reaches the readers of two groups counts twice.
+struct Traffic {
+  std::uint64_t values_written = 0;  // state samples: changes only
+  std::uint64_t heartbeats_written = 0;
+  std::uint64_t values_received = 0;
+  std::uint64_t heartbeats_received = 0;
 };
 
 struct EquipmentOptions {
@@ -288,6 +307,7 @@ class Equipment {
   std::optional<CounterpartSpec> counterpart(const std::string& interface_id) const;
   const EquipmentOptions& options() const noexcept;
   bool started() const noexcept;
+  Traffic traffic() const;
 
  private:
   std::unique_ptr<EquipmentImpl> impl_;

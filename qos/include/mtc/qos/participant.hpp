@@ -38,9 +38,13 @@ inline constexpr std::array<Transport, 4> kAllTransports = {
 // Faults the LoopbackTest transport injects into what this participant
 // sends (ignored by the other transports).
 struct FaultInjection {
-  std::uint8_t drop_data_percent = 0;       // DATA submessages
-  std::uint8_t drop_heartbeat_percent = 0;  // RTPS HEARTBEAT submessages
-  std::uint8_t drop_acknack_percent = 0;    // ACKNACK submessages
+  // Fast DDS's test transport drops every n-th DATA submessage (a counter,
+  // never two in a row); random_drop_data_percent drops each one with that
+  // probability, independently, so losses also come in bursts.
+  std::uint8_t drop_data_percent = 0;         // DATA submessages
+  std::uint8_t random_drop_data_percent = 0;  // DATA submessages, at random
+  std::uint8_t drop_heartbeat_percent = 0;    // RTPS HEARTBEAT submessages
+  std::uint8_t drop_acknack_percent = 0;      // ACKNACK submessages
   // While *outage is true every datagram this participant sends is dropped:
   // a cable pull that affects only this participant (the process-wide
   // test_UDPv4Transport_ShutdownAllNetwork would cut every participant).

@@ -14,22 +14,22 @@
 namespace mtc::qos {
 
 // Interface state topics (interaction REQUEST/RESPONSE items, INTERFACE_STATE,
-// DOOR_STATE, CHUCK_STATE). Every policy and why:
+// DOOR_STATE, CHUCK_STATE). They carry changes only: a value is written when
+// it changes (and reaches late joiners through TRANSIENT_LOCAL), never
+// repeated; liveness is the heartbeat topic's (heartbeat_topic below), so the
+// idle cost of a device does not grow with its data items. Every policy and
+// why:
 // - RELIABLE: a handshake step (READY -> ACTIVE) must never be lost; a peer
 //   that missed a transition would wait forever.
 // - TRANSIENT_LOCAL: a late joiner or a peer reconnecting after an outage gets
-//   the current value of every item at once instead of waiting a heartbeat.
+//   the current value of every item at once.
 // - KEEP_LAST 1 per instance (writer): only the current state matters; a
 //   late joiner gets the current state only (a stale ACTIVE must not
 //   resurface after recovery). Readers keep up to 8 per instance so that a
 //   burst of transitions that arrives before the listener runs is handed
 //   over in order instead of being collapsed to the last one.
-// - DEADLINE = timing.lease(): the heartbeat contract; a missing heartbeat of
-//   one data item raises requested_deadline_missed for that instance.
-// - LIVELINESS MANUAL_BY_TOPIC, lease = timing.lease(): each write asserts the
-//   writer's liveliness; a dead, hung or cut-off writer is declared not alive
-//   within the lease. (AUTOMATIC / MANUAL_BY_PARTICIPANT are unusable for
-//   this in Fast DDS 2.9.1, see FASTDDS-NOTES.)
+// - no DEADLINE, LIVELINESS AUTOMATIC with an infinite lease (the defaults):
+//   an unchanged item is silent by design.
 // - Reliable-writer HEARTBEAT = timing.reliable_heartbeat: a lost packet is
 //   repaired within tens of milliseconds, not the 3 s default.
 // - SHARED ownership: each instance has exactly one writer (its device).
@@ -39,27 +39,46 @@ namespace mtc::qos {
 EndpointQos state_topic(const Timing& timing = {});
 
 // State topics as a passive observer reads them (the bridge, `mtc watch`,
-// `mtc list`); reader only, an observer never writes. Every policy and why:
-// - RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 8 per instance, SHARED ownership:
-//   as state_topic's reader (every step seen, current values at once on
-//   joining, bursts handed over in order).
-// - no DEADLINE: the observer tells lost devices by liveliness alone. A
-//   requested DEADLINE would have to be at least every device's offered one
-//   and would arm Fast DDS 2.9's per-reader deadline timer, which re-fires
-//   every period for instances that went silent (a departed device's items).
-// - LIVELINESS MANUAL_BY_TOPIC, lease = timing.lease(): the longest lease
-//   the observer accepts (a writer offering a longer one does not match) and
-//   the bound on how soon a lost device's items read UNAVAILABLE.
-// - max_instances 16384: the items of every device of the cell.
+// `mtc list`); reader only, an observer never writes. The same reader as
+// state_topic's (RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 8 per instance, no
+// DEADLINE, SHARED ownership) with room for every device's items
+// (max_instances 16384): an observer tells lost devices by their heartbeats
+// (heartbeat_observer_topic).
 EndpointQos state_observer_topic(const Timing& timing = {});
+
+// The heartbeat topic: one instance per (device, timing group), written every
+// timing.heartbeat by a thread of its own. Every policy and why:
+// - RELIABLE, KEEP_LAST 1: a heartbeat lost in transit is repaired within the
+//   RTPS heartbeat period (or superseded by the next one), so lost packets
+//   do not add up to a false alarm; the repair traffic is one small sample
+//   per group and period, not per data item.
+// - TRANSIENT_LOCAL: a reader that matches gets the newest heartbeat at once,
+//   which starts its DEADLINE timer and tells it the change numbers to expect;
+//   a device that dies within its first period after matching is then still
+//   lost within a lease (a timer starts only at an instance's first sample).
+// - DEADLINE = timing.lease(): the heartbeat contract; a group silent for a
+//   lease raises requested_deadline_missed at its readers.
+// - LIVELINESS MANUAL_BY_TOPIC, lease = timing.lease(): each heartbeat
+//   asserts its writer; a dead, hung or cut-off device is declared not alive
+//   within the lease. (AUTOMATIC / MANUAL_BY_PARTICIPANT are unusable for
+//   this in Fast DDS 2.9.1, see FASTDDS-NOTES.)
+// - Reliable-writer HEARTBEAT = timing.reliable_heartbeat, SHARED ownership,
+//   max_instances 1024 per writer (timing groups), 16384 per reader.
+EndpointQos heartbeat_topic(const Timing& timing = {});
+
+// The heartbeat topic as a passive observer reads it: heartbeat_topic's
+// reader without DEADLINE, so that devices of any heartbeat period match; the
+// MANUAL_BY_TOPIC lease = timing.lease() is the longest lease the observer
+// accepts (a writer offering a longer one does not match), and the writer's
+// own lease is how soon its loss is reported.
+EndpointQos heartbeat_observer_topic(const Timing& timing = {});
 
 // DeviceDescription announcements:
 // - RELIABLE + TRANSIENT_LOCAL + KEEP_LAST 1: a bridge or peer started later
 //   still learns every device's data items at once.
-// - no DEADLINE: the description only changes at start-up, so it is not
-//   re-published; instead the writer asserts liveliness every heartbeat:
-// - LIVELINESS MANUAL_BY_TOPIC, lease = timing.lease(): a vanished device is
-//   reported lost within the same bound as its data items.
+// - no DEADLINE, AUTOMATIC liveliness with an infinite lease: the description
+//   only changes at start-up and is not repeated; a device's loss is told by
+//   its heartbeats (group 0), its departure by disposal or unmatching.
 // - max_instances 1024 per writer, 16384 per reader, as state_topic.
 // Observers and equipment read announcements with the same reader QoS.
 EndpointQos device_description_topic(const Timing& timing = {});
@@ -67,19 +86,23 @@ EndpointQos device_description_topic(const Timing& timing = {});
 // Names of the presets, as used in the XML profiles file:
 //   <data_writer profile_name="mtc.state.writer">, "mtc.state.reader",
 //   "mtc.device_description.writer", "mtc.device_description.reader",
-//   "mtc.state_observer.reader" (no writer profile),
+//   "mtc.heartbeat.writer", "mtc.heartbeat.reader",
+//   "mtc.state_observer.reader", "mtc.heartbeat_observer.reader" (no writer
+//   profiles),
 //   participant profiles "mtc.participant.loopback" (UDPv4 on 127.0.0.1 +
 //   SHM) and "mtc.participant.loopback_udp" (UDPv4 on 127.0.0.1 only).
 inline constexpr std::string_view kStateProfile = "mtc.state";
 inline constexpr std::string_view kDeviceDescriptionProfile = "mtc.device_description";
 inline constexpr std::string_view kStateObserverProfile = "mtc.state_observer";
+inline constexpr std::string_view kHeartbeatProfile = "mtc.heartbeat";
+inline constexpr std::string_view kHeartbeatObserverProfile = "mtc.heartbeat_observer";
 inline constexpr std::string_view kLoopbackParticipantProfile = "mtc.participant.loopback";
 inline constexpr std::string_view kLoopbackUdpParticipantProfile = "mtc.participant.loopback_udp";
 
 // Looks a preset up by name ("mtc.state", "mtc.device_description",
-// "mtc.state_observer"); throws std::invalid_argument naming the known
-// presets otherwise. Each topic's role fixes its preset: the runtime takes
-// no preset name from its users.
+// "mtc.state_observer", "mtc.heartbeat", "mtc.heartbeat_observer"); throws std::invalid_argument
+// naming the known presets otherwise. Each topic's role fixes its preset: the runtime takes no
+// preset name from its users.
 EndpointQos preset(std::string_view name, const Timing& timing = {});
 std::vector<std::string> preset_names();
 

@@ -1,9 +1,11 @@
 // Timing of one interface's heartbeat and of comms-loss detection.
 //
 // MTConnect asks each piece of equipment for a heartbeat so that its peer can
-// tell "nothing changed" from "gone". On DDS the heartbeat is a periodic
-// re-publication of every data item; DEADLINE and MANUAL_BY_TOPIC liveliness
-// turn a missing heartbeat into an event within `lease()`.
+// tell "nothing changed" from "gone". On DDS the heartbeat is one small sample
+// per device and timing group per period on its own topic (mtc/Heartbeat);
+// data items are written only when they change. DEADLINE and MANUAL_BY_TOPIC
+// liveliness on the heartbeat topic turn a missing heartbeat into an event
+// within `lease()`.
 #pragma once
 
 #include <chrono>
@@ -11,16 +13,16 @@
 namespace mtc::qos {
 
 struct Timing {
-  // Application heartbeat: every data item is re-published this often when
-  // its value does not change. 100 ms keeps a machine handshake's detection
-  // time well under a second while costing a few hundred small samples per
-  // second per device.
+  // Application heartbeat: each timing group of a device writes one
+  // heartbeat sample this often. 100 ms keeps a machine handshake's detection
+  // time well under a second while costing 10 small samples per second per
+  // device and reader, whatever its number of data items.
   std::chrono::milliseconds heartbeat{100};
 
   // A peer is declared lost after this many heartbeat periods without a
-  // sample (DEADLINE period and liveliness lease). 3 tolerates two lost
+  // heartbeat (DEADLINE period and liveliness lease). 3 tolerates two late
   // heartbeats plus scheduling jitter before raising a false alarm; reliable
-  // retransmission usually repairs a single loss within `reliable_heartbeat`.
+  // retransmission repairs a lost one within `reliable_heartbeat`.
   int missed_heartbeats = 3;
 
   // RTPS reliable-writer HEARTBEAT period: how soon a reader learns that it

@@ -13,6 +13,11 @@
 //   mtc/DoorState            DoorStateSample          device controlling the door
 //   mtc/ChuckState           ChuckStateSample         device controlling the chuck
 //   mtc/DeviceDescription    DeviceDescription        every device (announcement)
+//   mtc/Heartbeat            Heartbeat                every device, per timing group
+//
+// State topics carry changes only; the heartbeat (one sample per device and
+// timing group per period, keyed by device uuid and group) is what tells a
+// quiet device from a gone one.
 //
 // Each device publishes through one Publisher whose partition is
 // "mtc/dev/<device uuid>"; readers subscribe to "mtc/dev/*" or to their
@@ -35,6 +40,7 @@ inline constexpr const char* kInterfaceState = "mtc/InterfaceState";
 inline constexpr const char* kDoorState = "mtc/DoorState";
 inline constexpr const char* kChuckState = "mtc/ChuckState";
 inline constexpr const char* kDeviceDescription = "mtc/DeviceDescription";
+inline constexpr const char* kHeartbeat = "mtc/Heartbeat";
 
 inline constexpr const char* kPartitionPrefix = "mtc/dev/";
 inline constexpr const char* kAllDevicesPartition = "mtc/dev/*";

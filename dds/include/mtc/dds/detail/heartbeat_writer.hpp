@@ -1,0 +1,59 @@
+// Internal: a device's heartbeat written by hand, for raw peers (tests,
+// benchmarks) that play a device without the Equipment runtime. Same topic,
+// type support, partition (the publisher's) and QoS as the runtime's own
+// heartbeat (qos::heartbeat_topic); the caller decides when to beat and
+// which change numbers to announce.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "mtc/dds/detail/entities.hpp"
+#include "mtc/dds/detail/topics.hpp"
+#include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
+#include "mtc/idl/type_support.hpp"
+#include "mtc/qos/presets.hpp"
+
+namespace mtc::dds::detail {
+
+class HeartbeatWriter {
+ public:
+  // Creates the participant's mtc/Heartbeat topic: a participant may hold
+  // one HeartbeatWriter (or one runtime) at a time.
+  HeartbeatWriter(Participant& participant, Publisher& publisher, const std::string& device_uuid,
+                  std::uint32_t group = 0, const qos::Timing& timing = {}) {
+    auto type = idl::type_support<idl::HeartbeatPubSubType>();
+    participant.register_type(type);
+    topic_ = std::make_unique<Topic>(participant, topics::kHeartbeat, type.get_type_name(),
+                                     qos::heartbeat_topic(timing).topic_qos());
+    writer_ = std::make_unique<Writer<idl::Heartbeat>>(
+        publisher, *topic_, qos::heartbeat_topic(timing).writer_qos(), listener_);
+    sample_.device_uuid(device_uuid);
+    sample_.group(group);
+    sample_.period_ms(static_cast<std::uint32_t>(timing.heartbeat.count()));
+    sample_.lease_ms(static_cast<std::uint32_t>(timing.lease().count()));
+  }
+
+  // The next heartbeat: set the change numbers to announce here.
+  idl::Heartbeat& sample() noexcept { return sample_; }
+  // Writes one heartbeat (beat counter bumped, source time now).
+  void beat() {
+    sample_.beat(sample_.beat() + 1);
+    sample_.source_time_ns(topics::realtime_ns());
+    writer_->write(sample_);
+  }
+  // Asserts the writer's liveliness without writing a heartbeat.
+  void assert_liveliness() { writer_->assert_liveliness(); }
+  // Disposes the instance (a graceful leave).
+  void dispose() { writer_->dispose(sample_); }
+
+ private:
+  struct QuietListener : fdds::DataWriterListener {};
+  QuietListener listener_;
+  std::unique_ptr<Topic> topic_;
+  std::unique_ptr<Writer<idl::Heartbeat>> writer_;
+  idl::Heartbeat sample_;
+};
+
+}  // namespace mtc::dds::detail

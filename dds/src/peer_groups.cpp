@@ -1,0 +1,90 @@
+#include "peer_groups.hpp"
+
+#include <algorithm>
+
+namespace mtc::dds::detail {
+
+namespace {
+
+StateChanges announced_by(const ObservedHeartbeat& h) {
+  StateChanges out{};
+  out[static_cast<std::size_t>(TopicKind::Request)] = h.request_changes;
+  out[static_cast<std::size_t>(TopicKind::Response)] = h.response_changes;
+  out[static_cast<std::size_t>(TopicKind::InterfaceState)] = h.interface_state_changes;
+  out[static_cast<std::size_t>(TopicKind::DoorState)] = h.door_state_changes;
+  out[static_cast<std::size_t>(TopicKind::ChuckState)] = h.chuck_state_changes;
+  return out;
+}
+
+}  // namespace
+
+bool PeerGroup::in_step() const noexcept {
+  for (std::size_t i = 0; i < kStateTopicCount; ++i) {
+    if (received[i] < announced[i]) return false;
+  }
+  return true;
+}
+
+PeerGroupKey PeerGroups::on_value(const Handle& writer, TopicKind topic,
+                                  const ObservedValue& value) {
+  auto key = key_of(writer, value.device_uuid, value.heartbeat_group);
+  if (is_state_topic(topic)) {
+    auto& newest = groups_[key].received[static_cast<std::size_t>(topic)];
+    newest = std::max(newest, value.sequence_number);
+  }
+  return key;
+}
+
+PeerGroup& PeerGroups::on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat) {
+  const auto key = key_of(writer, heartbeat.device_uuid, heartbeat.group);
+  heartbeat_writers_[writer] = key;
+  auto& g = groups_[key];
+  g.last_heartbeat_ns = heartbeat.reception_time_ns;
+  g.newest = heartbeat;
+  g.announced = announced_by(heartbeat);
+  return g;
+}
+
+std::optional<std::string> PeerGroups::behind_report(const PeerGroupKey& key, std::int64_t now_ns,
+                                                     std::int64_t repair_ns) {
+  const auto it = groups_.find(key);
+  if (it == groups_.end()) return std::nullopt;
+  auto& g = it->second;
+  if (g.in_step()) {
+    g.behind_since_ns = 0;
+    g.behind_reported = false;
+    return std::nullopt;
+  }
+  if (g.behind_since_ns == 0) g.behind_since_ns = now_ns;
+  if (g.behind_reported || now_ns - g.behind_since_ns <= repair_ns) return std::nullopt;
+  g.behind_reported = true;
+  std::string missing;
+  for (std::size_t i = 0; i < kStateTopicCount; ++i) {
+    if (g.received[i] >= g.announced[i]) continue;
+    missing += std::string(missing.empty() ? "" : ", ") + topic_name(static_cast<TopicKind>(i)) +
+               " change " + std::to_string(g.announced[i]) + " (received up to " +
+               std::to_string(g.received[i]) + ")";
+  }
+  return "device " + key.device + " heartbeat group " + std::to_string(key.group) +
+         " announced changes not received for " +
+         std::to_string((now_ns - g.behind_since_ns) / 1000000) + " ms: " + missing;
+}
+
+const PeerGroup* PeerGroups::find(const PeerGroupKey& key) const {
+  const auto it = groups_.find(key);
+  return it == groups_.end() ? nullptr : &it->second;
+}
+
+const PeerGroupKey* PeerGroups::heartbeat_writer(const Handle& writer) const {
+  const auto it = heartbeat_writers_.find(writer);
+  return it == heartbeat_writers_.end() ? nullptr : &it->second;
+}
+
+void PeerGroups::forget_writer(const Handle& writer) {
+  const auto it = heartbeat_writers_.find(writer);
+  if (it == heartbeat_writers_.end()) return;
+  groups_.erase(it->second);
+  heartbeat_writers_.erase(it);
+}
+
+}  // namespace mtc::dds::detail

@@ -1,0 +1,77 @@
+// Internal: the timing groups of other devices as their heartbeats and state
+// samples describe them. A heartbeat announces, per state topic, the newest
+// change the group's writer has written; the values received from those
+// writers say how far this reader has got. When they agree the reader is in
+// step: the last value it holds of each item is the device's current one,
+// which is what lets Equipment and DomainObserver hand last known values over
+// again after a loss instead of waiting for a change that may never come.
+//
+// Keyed by the writing participant as well: a restarted device (same uuid,
+// new process) starts its change numbers afresh, and nothing of its previous
+// incarnation may be taken for current.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "domain_tap.hpp"
+
+namespace mtc::dds::detail {
+
+struct PeerGroupKey {
+  std::string device;
+  std::uint32_t group = 0;
+  ParticipantKey participant{};
+
+  friend bool operator<(const PeerGroupKey& a, const PeerGroupKey& b) {
+    return std::tie(a.device, a.group, a.participant) < std::tie(b.device, b.group, b.participant);
+  }
+  friend bool operator==(const PeerGroupKey& a, const PeerGroupKey& b) {
+    return a.device == b.device && a.group == b.group && a.participant == b.participant;
+  }
+};
+
+struct PeerGroup {
+  std::int64_t last_heartbeat_ns = 0;  // reception of the newest heartbeat (0: none yet)
+  ObservedHeartbeat newest;            // the newest heartbeat itself
+  StateChanges announced{};            // change numbers it announced
+  StateChanges received{};             // newest change number received, per state topic
+  std::int64_t behind_since_ns = 0;    // announced ahead of received since (0: in step)
+  bool behind_reported = false;
+
+  bool heard() const noexcept { return last_heartbeat_ns != 0; }
+  // Every change the newest heartbeat announced has been received.
+  bool in_step() const noexcept;
+};
+
+class PeerGroups {
+ public:
+  // A state sample from `writer` on state topic `topic`; returns its group.
+  PeerGroupKey on_value(const Handle& writer, TopicKind topic, const ObservedValue& value);
+  // A heartbeat; returns its group's record (created on first sight).
+  PeerGroup& on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat);
+  // A report once a group has stayed behind its heartbeats for longer than
+  // `repair_ns` (a change announced but not received: lost, or stuck in
+  // repair); nullopt otherwise. Call after on_heartbeat.
+  std::optional<std::string> behind_report(const PeerGroupKey& key, std::int64_t now_ns,
+                                           std::int64_t repair_ns);
+
+  const PeerGroup* find(const PeerGroupKey& key) const;
+  // The group whose heartbeats `writer` writes, if it is a heartbeat writer.
+  const PeerGroupKey* heartbeat_writer(const Handle& writer) const;
+  // Drops what is known of a heartbeat writer's group (the writer is gone).
+  void forget_writer(const Handle& writer);
+
+  static PeerGroupKey key_of(const Handle& writer, const std::string& device, std::uint32_t group) {
+    return {device, group, participant_of(writer)};
+  }
+
+ private:
+  std::map<PeerGroupKey, PeerGroup> groups_;
+  std::map<Handle, PeerGroupKey> heartbeat_writers_;
+};
+
+}  // namespace mtc::dds::detail

@@ -1,0 +1,74 @@
+// Items are written on change only, so a KEEP_LAST 1 writer's history keeps
+// an item that never changes at its oldest end while the others move on;
+// Fast DDS 2.9 announces (and readers walk) every hole in between one
+// sequence number at a time, a cost that would grow with the run's age
+// (docs/endurance.md). The runtime writes such an item again, unchanged,
+// once the writer's other items have moved about 256 changes past it.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <mutex>
+#include <vector>
+
+#include "equipment_fixture.hpp"
+#include "mtc/dds/domain_observer.hpp"
+
+namespace mtc::dds::testing {
+namespace {
+
+using core::InterfaceType;
+
+TEST(HistorySpan, AnItemThatNeverChangesIsWrittenAgainAsTheOthersMoveOn) {
+  std::mutex m;
+  std::map<std::string, std::vector<ObservedValue>> seen;  // unused items only
+  Recorder rec;
+  DomainObserverCallbacks ocb;
+  ocb.on_value = [&](const ObservedValue& v) {
+    if (v.data_item_id.find("unload") == std::string::npos) return;
+    {
+      std::lock_guard<std::mutex> lock(m);
+      seen[v.device_uuid + "/" + v.data_item_id].push_back(v);
+    }
+    rec.notify();
+  };
+  DomainObserverOptions oo;
+  oo.domain_id = 46;
+  DomainObserver observer(oo, ocb);
+  Equipment cnc(options(46, "cnc-span"));
+  Equipment robot(options(46, "robot-span"));
+  cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-span", "mh1"}});
+  robot.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"cnc-span", "mh1"}});
+  auto& load = cnc.add_requester("mh1", Service::MaterialLoad);
+  cnc.add_requester("mh1", Service::MaterialUnload);  // never requested
+  ResponderCallbacks complete;
+  complete.on_request = [](Responder& r) { r.complete(); };
+  robot.add_responder("mh1", Service::MaterialLoad, complete);
+  robot.add_responder("mh1", Service::MaterialUnload, complete);
+  cnc.start();
+  robot.start();
+  RequestOptions wait;
+  wait.wait_for_ready = kTimeout;
+  // 2 changes of the request and 2-3 of the response per handshake: 200
+  // handshakes move both writers well past 256 changes.
+  for (int i = 0; i < 200; ++i) {
+    ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed) << "handshake " << i;
+  }
+  const auto rewritten = [&](const std::string& key) {
+    std::lock_guard<std::mutex> lock(m);
+    return seen[key].size() >= 2;
+  };
+  ASSERT_TRUE(rec.wait([&] {
+    return rewritten("cnc-span/mh1_material_unload_request") &&
+           rewritten("robot-span/mh1_material_unload_response");
+  }));
+  std::lock_guard<std::mutex> lock(m);
+  for (const auto& [key, values] : seen) {
+    // The same value, from the same change: a new write, not a new change.
+    EXPECT_GT(values[1].sequence_number, values[0].sequence_number + 256) << key;
+    EXPECT_EQ(values[1].state, values[0].state) << key;
+    EXPECT_EQ(values[1].source_time_ns, values[0].source_time_ns) << key;
+  }
+}
+
+}  // namespace
+}  // namespace mtc::dds::testing
