@@ -1,5 +1,6 @@
 // The bridge's live page: every device, its interfaces and, per service,
 // the request and response states as swimlanes on a scrolling time axis.
+// model.js keeps the devices and handshakes; this file fetches and draws.
 //
 // Data: the bridge's own MTConnect documents as JSON (format=json): /probe
 // once (again after a restart or when a value names an unknown item), then
@@ -24,8 +25,7 @@
   const HISTORY = 4000;     // observations read back at start
   const PAGE = 2000;        // observations per poll at most
   const FRAME_MS = 100;     // redraw period of the time axis
-  const KEEP_MS = 15 * 60 * 1000;  // history kept per lane
-  const LANE_H = 20, GAP = 12, AXIS_H = 18;
+  const LANE_H = 20, GAP = 12;
   const SVG_NS = "http://www.w3.org/2000/svg";
 
   const page = {
@@ -33,10 +33,6 @@
     instanceId: null,
     next: null,          // sequence of the next poll
     skewMs: 0,           // bridge clock minus ours, when large
-    handshakes: 0,
-    fails: 0,
-    lastSequence: 0,
-    lastComplete: null,  // {sequence, t, drawn}
     windowMs: 30000,
     paused: false,
     readyMs: null,
@@ -45,7 +41,7 @@
   // ---------- small helpers ----------
   const $ = (id) => document.getElementById(id);
   const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
-  const list = (group, name) => (group && Array.isArray(group[name]) ? group[name] : []);
+  const { buildModel, observationsOf, pushState, apply, parseTime, list, counters } = MtcModel;
 
   function el(tag, className, text) {
     const e = document.createElement(tag);
@@ -58,13 +54,6 @@
     const e = document.createElementNS(SVG_NS, tag);
     for (const [k, v] of Object.entries(attrs || {})) e.setAttribute(k, v);
     return e;
-  }
-
-  // MTConnect timestamps carry microseconds; Date.parse reads milliseconds.
-  function parseTime(ts) {
-    const ms = Date.parse(ts.length > 24 ? ts.slice(0, 23) + "Z" : ts);
-    const micros = ts.length > 24 ? Number(ts.slice(23, 26)) / 1000 : 0;
-    return ms + (Number.isFinite(micros) ? micros : 0);
   }
 
   const words = (type) => type.toLowerCase().replace(/_/g, " ");
@@ -95,186 +84,6 @@
     }
     if (doc && doc.MTConnectError) throw new BridgeError(doc);
     return doc;
-  }
-
-  // ---------- the model, from the probe ----------
-  // A lane: the states of one data item as segments {state, t0, t1}.
-  const newLane = () => ({ segments: [] });
-
-  // A service: one request side and one response side of a type, from two
-  // devices (the requester and the responder), shown as two lanes.
-  function newService(type, request, response) {
-    return { type, request, response, marks: [], done: [], current: null, fails: 0 };
-  }
-
-  function walkComponent(node, visit, iface) {
-    for (const item of list(node.DataItems, "DataItem")) visit(item, iface);
-    for (const [element, components] of Object.entries(node.Components || {})) {
-      if (!Array.isArray(components)) continue;
-      for (const c of components) {
-        const inner = element.endsWith("Interface") ? { element, id: c.id, name: c.name } : iface;
-        walkComponent(c, visit, inner);
-      }
-    }
-  }
-
-  function buildDevice(node) {
-    const device = { name: node.name, uuid: node.uuid, availability: null, interfaces: [] };
-    const interfaces = new Map();
-    const items = [];
-    walkComponent(node, (item, iface) => {
-      const entry = { id: item.id, type: item.type, lane: newLane(), device, services: [] };
-      items.push(entry);
-      if (!iface) {
-        if (item.type === "AVAILABILITY" && !device.availability) device.availability = entry;
-        return;
-      }
-      if (!interfaces.has(iface.id)) {
-        interfaces.set(iface.id, { ...iface, device, services: [], served: [], extras: [] });
-      }
-      entry.iface = interfaces.get(iface.id);
-      if (item.subType === "REQUEST") entry.role = "request";
-      else if (item.subType === "RESPONSE") entry.role = "response";
-      else entry.iface.extras.push(entry);
-    });
-    device.interfaces = [...interfaces.values()];
-    return { device, items };
-  }
-
-  // Pairs each request with the response of the same type in an interface
-  // of the same kind on another device (Part 5 pairs interfaces by type; the
-  // probe names no counterpart). A request is shown under its requester's
-  // interface, with the responder's lane below it; a response nobody
-  // requests gets a row of its own under its interface.
-  function pairServices(items) {
-    const sides = [...items.values()].filter((e) => e.role);
-    const responses = sides.filter((e) => e.role === "response");
-    for (const request of sides.filter((e) => e.role === "request")) {
-      const matches = responses.filter((r) => r.type === request.type &&
-        r.iface.element === request.iface.element && r.device !== request.device);
-      const response = matches.length === 1 ? matches[0] : null;
-      const service = newService(request.type, request, response);
-      request.iface.services.push(service);
-      request.services.push(service);
-      if (response) {
-        response.services.push(service);
-        response.iface.served.push(service);
-      }
-    }
-    for (const response of responses.filter((r) => r.services.length === 0)) {
-      const service = newService(response.type, null, response);
-      response.iface.services.push(service);
-      response.services.push(service);
-    }
-  }
-
-  function buildModel(probe) {
-    const devicesNode = probe.MTConnectDevices.Devices || {};
-    const model = { devices: [], items: new Map() };
-    for (const node of list(devicesNode, "Device")) {
-      const { device, items } = buildDevice(node);
-      model.devices.push(device);
-      for (const item of items) model.items.set(item.id, item);
-    }
-    pairServices(model.items);
-    return model;
-  }
-
-  // ---------- observations ----------
-  function observationsOf(doc) {
-    const out = [];
-    const streams = doc.MTConnectStreams.Streams || {};
-    for (const deviceStream of list(streams, "DeviceStream")) {
-      for (const componentStream of list(deviceStream, "ComponentStream")) {
-        for (const group of ["Samples", "Events", "Condition"]) {
-          for (const observations of Object.values(componentStream[group] || {})) {
-            for (const o of observations) out.push(o);
-          }
-        }
-      }
-    }
-    return out.sort((a, b) => a.sequence - b.sequence);
-  }
-
-  function pushState(lane, state, t) {
-    const segments = lane.segments;
-    const last = segments[segments.length - 1];
-    if (last && last.state === state) return false;
-    if (last) last.t1 = t;
-    segments.push({ state, t0: t, t1: null });
-    while (segments.length > 2 && segments[1].t1 !== null && segments[1].t1 < t - KEEP_MS) {
-      segments.shift();
-    }
-    return true;
-  }
-
-  function fail(service, t) {
-    service.fails += 1;
-    page.fails += 1;
-    if (service.current) {
-      service.current.failed = true;
-      service.done.push(service.current);
-      service.current = null;
-    }
-    service.marks.push({ step: "F", t });
-  }
-
-  // The handshake of Part 5 Table 1, as the two lanes show it.
-  function onRequest(service, state, t) {
-    if (state === "ACTIVE") {
-      service.current = { t1: t };
-      service.marks.push({ step: 1, t });
-    } else if (state === "READY" && service.current && service.current.t4 != null) {
-      service.current.t6 = t;
-      service.marks.push({ step: 6, t });
-    } else if (state === "FAIL") {
-      fail(service, t);
-    }
-  }
-
-  function onResponse(service, state, t, sequence) {
-    const h = service.current;
-    if (state === "ACTIVE" && h && h.t3 == null) {
-      h.t3 = t;
-      service.marks.push({ step: 3, t });
-    } else if (state === "COMPLETE" && h && h.t4 == null) {
-      h.t4 = t;
-      h.latency = t - h.t1;
-      service.done.push(h);
-      service.marks.push({ step: 4, t });
-      page.handshakes += 1;
-      page.lastComplete = { sequence, t, drawn: false };
-    } else if (state === "READY" && h && h.t6 != null) {
-      h.t8 = t;
-      service.marks.push({ step: 8, t });
-      service.current = null;
-    } else if (state === "FAIL") {
-      fail(service, t);
-    }
-  }
-
-  // Applies one document's observations in sequence order. Returns false
-  // when one names an item the model lacks (the devices changed).
-  function apply(doc) {
-    let known = true;
-    for (const o of observationsOf(doc)) {
-      page.lastSequence = Math.max(page.lastSequence, o.sequence);
-      const item = page.model.items.get(o.dataItemId);
-      if (!item) {
-        known = false;
-        continue;
-      }
-      const state = o.value === undefined ? "UNAVAILABLE" : String(o.value);
-      const t = parseTime(o.timestamp);
-      if (!pushState(item.lane, state, t)) continue;
-      for (const service of item.services) {
-        if (item.role === "request") onRequest(service, state, t);
-        else onResponse(service, state, t, o.sequence);
-        while (service.marks.length > 0 && service.marks[0].t < t - KEEP_MS) service.marks.shift();
-        if (service.done.length > 500) service.done.splice(0, 250);
-      }
-    }
-    return known;
   }
 
   // ---------- drawing ----------
@@ -498,17 +307,17 @@
   // What tests and tools read from the DOM.
   function publish() {
     const body = document.body;
-    body.dataset.handshakes = String(page.handshakes);
-    body.dataset.fails = String(page.fails);
-    body.dataset.lastSequence = String(page.lastSequence);
-    const c = page.lastComplete;
+    body.dataset.handshakes = String(counters.handshakes);
+    body.dataset.fails = String(counters.fails);
+    body.dataset.lastSequence = String(counters.lastSequence);
+    const c = counters.lastComplete;
     if (c && !c.drawn) {
       c.drawn = true;
       body.dataset.lastCompleteSequence = String(c.sequence);
       body.dataset.lastCompleteLagMs = String(Math.round(now() - c.t));
     }
     $("counts").textContent =
-      `${page.handshakes} handshakes · ${page.fails} FAIL · sequence ${page.lastSequence}`;
+      `${counters.handshakes} handshakes · ${counters.fails} FAIL · sequence ${counters.lastSequence}`;
   }
 
   // ---------- following the bridge ----------
@@ -532,9 +341,7 @@
     $("agent").textContent =
       `${h.sender} · MTConnect ${probe.MTConnectDevices.schemaVersion} · instance ${h.instanceId}`;
     page.model = buildModel(probe);
-    page.handshakes = 0;
-    page.fails = 0;
-    page.lastComplete = null;
+    MtcModel.reset();
     buildView();
     const current = await fetchJson("current?format=json");
     const ch = current.MTConnectStreams.Header;
@@ -543,7 +350,7 @@
     page.next = ch.nextSequence;
     const from = Math.max(ch.firstSequence, page.next - HISTORY);
     if (from < page.next) {
-      apply(await fetchJson(`sample?format=json&from=${from}&to=${page.next}&count=${page.next - from}`));
+      apply(page.model, await fetchJson(`sample?format=json&from=${from}&to=${page.next}&count=${page.next - from}`));
     }
     // Items whose last change is older than the history start as /current says.
     for (const o of observationsOf(current)) {
@@ -562,7 +369,7 @@
       const h = doc.MTConnectStreams.Header;
       if (h.instanceId !== page.instanceId) return;
       noteHeader(h);
-      const known = apply(doc);
+      const known = apply(page.model, doc);
       page.next = h.nextSequence;
       if (!known) return;
       setLink("live");
