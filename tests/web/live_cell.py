@@ -1,3 +1,4 @@
+#!/usr/bin/env python3
 """A running demo cell (mtc-cell) and bridge (mtc-bridge) for the tests of
 the live page and the JSON documents. Run inside the loopback-only
 namespace (scripts/netns-run.sh): both speak DDS. The processes die with
@@ -129,3 +130,13 @@ class LiveCell:
                         if o.get("subType") == "RESPONSE" and o.get("value") == "COMPLETE":
                             out.append((o["sequence"], o["dataItemId"]))
         return sorted(out)
+
+
+if __name__ == "__main__":
+    import argparse
+    import sys
+    argparse.ArgumentParser(
+        description=__doc__ + "\nA module for check_json_documents.py and check_browser_page.py: "
+        "it runs nothing on its own.").parse_args()
+    sys.stderr.write("live_cell.py: a module, not a program (see --help)\n")
+    sys.exit(2)
