@@ -24,6 +24,7 @@ PACKAGES=(
   python3                                                  # benchmark plots and summaries
   gnuplot-nox                                              # benchmarks/run.sh latency plots (PNG);
                                                            # bookworm has no matplotlib by default
+  chromium                                                 # the live page's browser test (headless)
 )
 
 missing=()

@@ -18,6 +18,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "json_printer.hpp"
 #include "mtc/bridge/device_model.hpp"
 #include "mtc/bridge/mtconnect_agent.hpp"
 #include "mtc/bridge/observation_buffer.hpp"
@@ -67,6 +68,8 @@ class AgentImpl final : public MtconnectAgent {
   // --- requests (caller holds data_ shared) ---
   // The route table (agent_routes.cpp), with defaults from options_.
   RouteTable make_routes() const;
+  Routed handle_root(const Query& q);
+  Routed handle_web_file(const Query& q);
   Routed handle_probe(const Query& q);
   Routed handle_current(const Query& q);
   Routed handle_sample(const Query& q);
@@ -79,12 +82,17 @@ class AgentImpl final : public MtconnectAgent {
   Response current(const Query& q, const std::string& cache_key);
   Response sample(const Query& q, std::uint64_t& next_out) const;
   Response probe(const Query& q);
-  Response error(const RequestError& e) const;
-  Response error_locked(const RequestError& e) const;
+  // Error documents in the format the request asked for.
+  Response error(const RequestError& e, bool json = false) const;
+  Response error_locked(const RequestError& e, bool json) const;
+  // A Streams document in the query's format.
+  Response streams(const Query& q, const HeaderInfo& h,
+                   const std::vector<StreamEntry>& entries) const;
   Routed stream(const Query& q, bool is_sample) const;
 
   AgentOptions options_;
   Printer printer_;
+  JsonPrinter json_printer_;
   std::uint64_t instance_id_ = 0;
   std::size_t max_count_ = 0;
   bool from_file_ = false;

@@ -86,6 +86,7 @@ SchemaVersion pick_version(const AgentOptions& options, const DeviceModel& model
 AgentImpl::AgentImpl(const AgentOptions& options)
     : options_(options),
       printer_(options.schema_version.value_or(SchemaVersion::V1_6)),
+      json_printer_(printer_.version()),
       buffer_(options.buffer_size) {
   instance_id_ =
       options.instance_id != 0
@@ -100,6 +101,7 @@ AgentImpl::AgentImpl(const AgentOptions& options)
   if (!options.devices_file.empty()) {
     model_ = DeviceModel::from_file(options.devices_file, slots_, options.devices_limits);
     printer_ = Printer(pick_version(options, model_));
+    json_printer_ = JsonPrinter(printer_.version());
     from_file_ = true;
   }
   mark_unobserved_unavailable(model_change_ns_);

@@ -1,17 +1,23 @@
 // AgentImpl: the route table, and the probe, current and assets handlers.
 //
 // Routes (device = name or uuid), each a row of make_routes():
-//   /  /probe  /{device}  /{device}/probe        MTConnectDevices
+//   /                                            the live page for browsers
+//                                                (Accept: text/html), else probe
+//   /web/{file}                                  the page's scripts and style
+//   /probe  /{device}  /{device}/probe           MTConnectDevices
 //   /current   /{device}/current                 MTConnectStreams (path, at, interval)
 //   /sample    /{device}/sample                  MTConnectStreams (path, from, to, count,
 //                                                interval, heartbeat)
 //   /assets    /{device}/assets  /asset(s)/{id}  MTConnectAssets (always empty)
 // Status codes follow the reference agent: parameter errors 400, unknown
 // device 404, unknown route 404, methods other than GET/HEAD 405.
+// Every document is XML or, when asked for (format=json, or Accept naming
+// application/json), MTConnect JSON: see negotiate().
 #include <algorithm>
 #include <chrono>
 
 #include "agent_impl.hpp"
+#include "web_files.hpp"
 
 namespace mtc::bridge::detail {
 
@@ -43,10 +49,38 @@ RequestError out_of_range(std::string text) {
   return {"OUT_OF_RANGE", 400, std::move(text)};
 }
 
-// /current documents are cached per device, path and layout.
+constexpr std::string_view kJsonType = "application/json";
+constexpr std::string_view kXmlType = "text/xml";
+
+// /current documents are cached per device, path, format and layout.
 std::string current_cache_key(const Query& q) {
   return std::to_string(q.device_index ? *q.device_index : SIZE_MAX) + '|' + q.path.value_or("") +
-         '|' + (q.pretty ? "p" : "");
+         '|' + (q.json ? "j" : "x") + (q.pretty ? "p" : "");
+}
+
+bool names_media_type(std::string_view accept, std::string_view type) {
+  return accept.find(type) != std::string_view::npos;
+}
+
+// The format a request asks for, as the reference agent reads it: the
+// `format` parameter (xml or json) decides; without it an Accept header
+// naming application/json asks for JSON, and one naming text/html marks a
+// browser (served the live page at `/`). Throws RequestError for another
+// `format`.
+void negotiate(const Request& request, RequestParameters& out) {
+  const auto& query = request.target->query;
+  const auto format = std::find_if(query.begin(), query.end(),
+                                   [](const auto& pair) { return pair.first == "format"; });
+  if (format == query.end()) {
+    out.json = names_media_type(request.accept, kJsonType);
+    out.browser = names_media_type(request.accept, "text/html");
+  } else if (format->second == "json" || format->second == "xml") {
+    out.json = format->second == "json";
+  } else {
+    out.json = names_media_type(request.accept, kJsonType);
+    throw RequestError{"INVALID_REQUEST", 400,
+                       "'format' must be xml or json, not '" + format->second.substr(0, 64) + "'"};
+  }
 }
 
 }  // namespace
@@ -67,10 +101,13 @@ RouteTable AgentImpl::make_routes() const {
                          {{"to", "interval"}}};
   return RouteTable({
       {{"/asset/{asset}", "/assets/{asset}"}, std::nullopt, &AgentImpl::handle_asset},
-      {{"/", "/probe", "/{device}", "/{device}/probe"}, current, &AgentImpl::handle_probe},
+      {{"/"}, current, &AgentImpl::handle_root},
+      {{"/probe", "/{device}", "/{device}/probe"}, current, &AgentImpl::handle_probe},
       {{"/current", "/{device}/current"}, current, &AgentImpl::handle_current},
       {{"/sample", "/{device}/sample"}, sample, &AgentImpl::handle_sample},
       {{"/assets", "/{device}/assets"}, current, &AgentImpl::handle_assets},
+      // Last: a device named "web" keeps its /web/probe and the like.
+      {{"/web/{asset}"}, std::nullopt, &AgentImpl::handle_web_file},
   });
 }
 
@@ -92,16 +129,28 @@ HeaderInfo AgentImpl::header() const {
   return h;
 }
 
-Response AgentImpl::error_locked(const RequestError& e) const {
+Response AgentImpl::error_locked(const RequestError& e, bool json) const {
   Response r;
   r.status = e.status;
-  r.body = printer_.error(header(), {ErrorEntry{e.code, e.text}});
+  const std::vector<ErrorEntry> errors{ErrorEntry{e.code, e.text}};
+  r.content_type = json ? kJsonType : kXmlType;
+  r.body = json ? json_printer_.error(header(), errors) : printer_.error(header(), errors);
   return r;
 }
 
-Response AgentImpl::error(const RequestError& e) const {
+Response AgentImpl::error(const RequestError& e, bool json) const {
   std::shared_lock lock(data_);
-  return error_locked(e);
+  return error_locked(e, json);
+}
+
+Response AgentImpl::streams(const Query& q, const HeaderInfo& h,
+                            const std::vector<StreamEntry>& entries) const {
+  if (q.json) {
+    return {200, std::string(kJsonType),
+            json_printer_.streams(h, model_, q.device_index, entries, q.pretty)};
+  }
+  return {200, std::string(kXmlType),
+          printer_.streams(h, model_, q.device_index, entries, q.pretty)};
 }
 
 Response AgentImpl::error_document(int status, std::string_view code,
@@ -116,6 +165,7 @@ Response AgentImpl::error_document(int status, std::string_view code,
 }
 
 Routed AgentImpl::route(const Request& request) noexcept {
+  RequestParameters wanted;  // the format, known before anything can fail
   try {
     if (request.method != "GET" && request.method != "HEAD") {
       return Routed{error({"UNSUPPORTED", 405,
@@ -123,13 +173,16 @@ Routed AgentImpl::route(const Request& request) noexcept {
                     std::nullopt};
     }
     if (!request.target) throw RequestError{"INVALID_URI", 400, request.target_error};
+    negotiate(request, wanted);
     std::shared_lock lock(data_);
-    const RouteTable::Match match = routes_.match(*request.target, model_);
+    RouteTable::Match match = routes_.match(*request.target, model_);
+    match.query.json = wanted.json;
+    match.query.browser = wanted.browser;
     return (this->*match.route->handler)(match.query);
   } catch (const RequestError& e) {
-    return Routed{error(e), std::nullopt};
+    return Routed{error(e, wanted.json), std::nullopt};
   } catch (const std::exception& e) {
-    return Routed{error({"INTERNAL_ERROR", 500, e.what()}), std::nullopt};
+    return Routed{error({"INTERNAL_ERROR", 500, e.what()}, wanted.json), std::nullopt};
   } catch (...) {
     Response r;
     r.status = 500;
@@ -141,12 +194,33 @@ Routed AgentImpl::handle_asset(const Query& q) {
   throw RequestError{"ASSET_NOT_FOUND", 404, "the bridge stores no assets: '" + *q.asset + "'"};
 }
 
+Routed AgentImpl::handle_root(const Query& q) {
+  // Browsers get the live page; every other client the probe, as from the
+  // reference agent.
+  if (!q.browser) return handle_probe(q);
+  Query page;
+  page.asset = std::string(kPageFile);
+  return handle_web_file(page);
+}
+
+Routed AgentImpl::handle_web_file(const Query& q) {
+  const WebFile* file = find_web_file(*q.asset);
+  if (!file) throw RequestError{"INVALID_URI", 404, "the bridge has no file '" + *q.asset + "'"};
+  return Routed{Response{200, std::string(file->content_type), std::string(file->body)},
+                std::nullopt};
+}
+
 Routed AgentImpl::handle_probe(const Query& q) {
   return Routed{probe(q), std::nullopt};
 }
 
 Routed AgentImpl::handle_assets(const Query& q) {
-  return Routed{Response{200, "text/xml", printer_.assets(header(), q.pretty)}, std::nullopt};
+  if (q.json) {
+    return Routed{Response{200, std::string(kJsonType), json_printer_.assets(header(), q.pretty)},
+                  std::nullopt};
+  }
+  return Routed{Response{200, std::string(kXmlType), printer_.assets(header(), q.pretty)},
+                std::nullopt};
 }
 
 Routed AgentImpl::handle_current(const Query& q) {
@@ -198,17 +272,19 @@ std::vector<std::int32_t> AgentImpl::item_filter(const Query& q) const {
 
 Response AgentImpl::probe(const Query& q) {
   const std::string key = "probe|" + std::to_string(q.device_index ? *q.device_index : SIZE_MAX) +
-                          (q.pretty ? "p" : "");
+                          (q.json ? "j" : "x") + (q.pretty ? "p" : "");
+  const std::string type(q.json ? kJsonType : kXmlType);
   {
     std::lock_guard lock(cache_mutex_);
     const auto it = cache_.find(key);
     if (it != cache_.end() && it->second.generation == generation_)
-      return {200, "text/xml", it->second.body};
+      return {200, type, it->second.body};
   }
-  std::string body = printer_.probe(header(), model_, q.device_index, q.pretty);
+  std::string body = q.json ? json_printer_.probe(header(), model_, q.device_index, q.pretty)
+                            : printer_.probe(header(), model_, q.device_index, q.pretty);
   std::lock_guard lock(cache_mutex_);
   cache_[key] = CachedDoc{generation_, 0, body};
-  return {200, "text/xml", std::move(body)};
+  return {200, type, std::move(body)};
 }
 
 Response AgentImpl::current(const Query& q, const std::string& cache_key) {
@@ -223,7 +299,7 @@ Response AgentImpl::current(const Query& q, const std::string& cache_key) {
     const auto it = cache_.find(cache_key);
     if (it != cache_.end() && it->second.generation == generation_ &&
         it->second.next_sequence == buffer_.next_sequence()) {
-      return {200, "text/xml", it->second.body};
+      return {200, std::string(q.json ? kJsonType : kXmlType), it->second.body};
     }
   }
   const std::vector<std::int32_t> filter = item_filter(q);
@@ -246,13 +322,13 @@ Response AgentImpl::current(const Query& q, const std::string& cache_key) {
   }
   std::sort(entries.begin(), entries.end(),
             [](const StreamEntry& a, const StreamEntry& b) { return a.item < b.item; });
-  std::string body = printer_.streams(h, model_, q.device_index, entries, q.pretty);
+  Response response = streams(q, h, entries);
   if (!q.at) {
     std::lock_guard lock(cache_mutex_);
     if (cache_.size() > 256) cache_.clear();  // bound memory against path variety
-    cache_[cache_key] = CachedDoc{generation_, buffer_.next_sequence(), body};
+    cache_[cache_key] = CachedDoc{generation_, buffer_.next_sequence(), response.body};
   }
-  return {200, "text/xml", std::move(body)};
+  return response;
 }
 
 }  // namespace mtc::bridge::detail

@@ -89,7 +89,7 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
   HeaderInfo h = header();
   h.next_sequence = end;
   next_out = end;
-  return {200, "text/xml", printer_.streams(h, model_, q.device_index, entries, q.pretty)};
+  return streams(q, h, entries);
 }
 
 Routed AgentImpl::stream(const Query& q, bool is_sample) const {
@@ -139,9 +139,9 @@ Response AgentImpl::next_part(StreamPlan& plan) noexcept {
     plan.next_sequence = next;
     return part;
   } catch (const RequestError& e) {
-    return error(e);
+    return error(e, plan.parameters.json);
   } catch (const std::exception& e) {
-    return error({"INTERNAL_ERROR", 500, e.what()});
+    return error({"INTERNAL_ERROR", 500, e.what()}, plan.parameters.json);
   } catch (...) {
     Response r;
     r.status = 500;

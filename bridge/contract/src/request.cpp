@@ -86,10 +86,11 @@ std::optional<RequestTarget> parse_target(std::string_view target, std::string& 
   return out;
 }
 
-Request parse_request(std::string_view method, std::string_view target) {
+Request parse_request(std::string_view method, std::string_view target, std::string_view accept) {
   Request request;
   request.method = std::string(method);
   request.target = parse_target(target, request.target_error);
+  request.accept = std::string(accept);
   return request;
 }
 

@@ -227,7 +227,9 @@ void Session::handle_request() {
 
   // The target is split here, once; the agent types its parameters once,
   // and a stream keeps them for every part.
-  const Request request = parse_request(method, {message.target().data(), message.target().size()});
+  const auto accept = message[http::field::accept];
+  const Request request = parse_request(method, {message.target().data(), message.target().size()},
+                                        {accept.data(), accept.size()});
   Routed routed = shared_->agent->route(request);
   if (routed.stream && !head_only && !shared_->stopping) {
     start_stream(std::move(*routed.stream));

@@ -21,7 +21,7 @@ namespace mtc::bridge {
 
 struct Response {
   int status = 200;                       // HTTP status
-  std::string content_type = "text/xml";  // always XML documents for now
+  std::string content_type = "text/xml";  // text/xml, application/json, or a page's type
   std::string body;
 };
 

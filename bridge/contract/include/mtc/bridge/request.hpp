@@ -22,14 +22,17 @@ struct RequestTarget {
 // ("/..."), has a bad %-escape, a NUL byte, or is absurdly long.
 std::optional<RequestTarget> parse_target(std::string_view target, std::string& error);
 
-// A request as the front end read it: the method and the split target.
+// A request as the front end read it: the method, the split target and the
+// one header the agent reads, Accept (the document format a client asks for).
 struct Request {
   std::string method;                   // "GET", "HEAD", ...
   std::optional<RequestTarget> target;  // nullopt: not a valid target ...
   std::string target_error;             // ... for this reason
+  std::string accept;                   // the Accept header, empty when absent
 };
 
-Request parse_request(std::string_view method, std::string_view target);
+Request parse_request(std::string_view method, std::string_view target,
+                      std::string_view accept = {});
 
 // The typed parameters of an MTConnect request, from its path and query,
 // as the agent's route table read them (defaults included).
@@ -39,6 +42,12 @@ struct RequestParameters {
   std::optional<std::string> path;    // XPath selecting data items
   std::optional<std::int64_t> at, from, to, count, interval, heartbeat;
   bool pretty = false;
+  // MTConnect JSON instead of XML: `format=json`, or an Accept header naming
+  // application/json (and no `format`), as the reference agent decides.
+  bool json = false;
+  // The client is a browser (Accept names text/html, no `format`): `/` then
+  // serves the live page instead of the probe.
+  bool browser = false;
 };
 
 }  // namespace mtc::bridge
