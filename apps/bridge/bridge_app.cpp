@@ -2,12 +2,26 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <iostream>
 #include <sstream>
 
 namespace mtc::bridge {
 
+namespace {
+
+// The agent's options with its warnings (DDS values no DataItem of the
+// Devices file takes, once per item) logged on stderr.
+AgentOptions logging_warnings(AgentOptions options) {
+  options.on_warning = [](const std::string& warning) {
+    std::cerr << "mtc-bridge: warning: " << warning << std::endl;
+  };
+  return options;
+}
+
+}  // namespace
+
 BridgeApp::BridgeApp(const BridgeConfig& config)
-    : config_(config), agent_(make_agent(config.agent)) {
+    : config_(config), agent_(make_agent(logging_warnings(config.agent))) {
   server_ = std::make_unique<HttpServer>(agent_, config_.server);
   observe_domains();
 }

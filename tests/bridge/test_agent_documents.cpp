@@ -155,7 +155,8 @@ TEST(Agent, DevicesFileItemsNeverReceivedStayUnavailable) {
   agent->add_value(value("cell-machine", "not.in.file", core::InteractionState::Ready, kT0));
   agent->add_value(value("cell-machine", "not.in.file", core::InteractionState::Active, kT0));
   ASSERT_EQ(warnings.size(), 1u);  // once per item
-  EXPECT_NE(warnings[0].find("cell-machine/not.in.file"), std::string::npos);
+  EXPECT_NE(warnings[0].find("device 'cell-machine'"), std::string::npos) << warnings[0];
+  EXPECT_NE(warnings[0].find("item 'not.in.file'"), std::string::npos) << warnings[0];
   Doc d(get(*agent, "/current").body);
   EXPECT_EQ(d.text("//MaterialLoad[@dataItemId='machine_material_handler_material_load_request']"),
             "READY");

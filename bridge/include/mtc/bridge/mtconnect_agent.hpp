@@ -72,9 +72,11 @@ struct AgentOptions {
   // Time without news before a stream sends an empty part, when the request
   // names no heartbeat (MTConnect agents: 10 s).
   std::chrono::milliseconds stream_heartbeat{10000};
-  // Told (once per item, on the ingest thread, no lock held) about values
-  // the model has no item for, e.g. "value for cell-machine/foo dropped: no
-  // such DataItem in cell.xml". Empty: silent (stats() still counts).
+  // Told (once per DDS item, on the ingest thread, no lock held) about
+  // values the Devices file has no item for, naming device uuid, interface
+  // and item: "DDS values of device 'cell-machine' interface 'door' item
+  // 'door_foo' are dropped: no DataItem of cell.xml maps to them ...".
+  // Empty: silent (stats() still counts). mtc-bridge logs them on stderr.
   std::function<void(const std::string&)> on_warning;
 };
 
