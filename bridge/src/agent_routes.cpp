@@ -306,10 +306,9 @@ Response AgentImpl::current(const Query& q, const std::string& cache_key) {
   std::vector<StreamEntry> entries;
   std::vector<Observation> state;
   HeaderInfo h = header();
-  if (q.at) {
-    state = buffer_.state_at(static_cast<std::uint64_t>(*q.at));
-    h.next_sequence = static_cast<std::uint64_t>(*q.at) + 1;
-  }
+  // nextSequence stays the buffer's, after `at` too, as the reference
+  // agent answers.
+  if (q.at) state = buffer_.state_at(static_cast<std::uint64_t>(*q.at));
   for (std::size_t slot = 0; slot < filter.size(); ++slot) {
     if (filter[slot] < 0) continue;
     const Observation* o = nullptr;

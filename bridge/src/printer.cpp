@@ -108,6 +108,13 @@ void add_observation(pugi::xml_node parent, const DataItemInfo& item, const Obse
   }
 }
 
+pugi::xml_node add_device_stream(pugi::xml_node streams, const DeviceInfo& info) {
+  pugi::xml_node ds = streams.append_child("DeviceStream");
+  ds.append_attribute("name") = info.name.c_str();
+  ds.append_attribute("uuid") = info.uuid.c_str();
+  return ds;
+}
+
 // One ComponentStream from entries[begin, end) (all of one component).
 void add_component_stream(pugi::xml_node device_stream, const DeviceModel& model,
                           const std::vector<StreamEntry>& entries, std::size_t begin,
@@ -214,11 +221,12 @@ std::string Printer::streams(const HeaderInfo& h, const DeviceModel& model,
   std::size_t next = 0;
   for (std::size_t d = 0; d < model.devices().size(); ++d) {
     if (device && *device != d) continue;
-    const DeviceInfo& info = model.devices()[d];
-    pugi::xml_node ds = streams.append_child("DeviceStream");
-    ds.append_attribute("name") = info.name.c_str();
-    ds.append_attribute("uuid") = info.uuid.c_str();
     while (next < sorted.size() && items[sorted[next].item].device < d) ++next;
+    // As the reference agent: a device with nothing to show has no
+    // DeviceStream (filtered /current, stream heartbeats), except that the
+    // 1.3 schema wants at least one.
+    if (next == sorted.size() || items[sorted[next].item].device != d) continue;
+    pugi::xml_node ds = add_device_stream(streams, model.devices()[d]);
     while (next < sorted.size() && items[sorted[next].item].device == d) {
       std::size_t end = next + 1;
       const std::size_t comp = items[sorted[next].item].component;
@@ -226,6 +234,10 @@ std::string Printer::streams(const HeaderInfo& h, const DeviceModel& model,
       add_component_stream(ds, model, sorted, next, end);
       next = end;
     }
+  }
+  const std::size_t first = device.value_or(0);
+  if (version_ == SchemaVersion::V1_3 && !streams.first_child() && first < model.devices().size()) {
+    add_device_stream(streams, model.devices()[first]);
   }
   return serialise(doc, pretty);
 }
