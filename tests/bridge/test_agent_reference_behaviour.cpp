@@ -3,7 +3,10 @@
 // after `at` and after a negative `count`, documents valid in every version.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "bridge_test_util.hpp"
 #include "xmllint.hpp"
@@ -84,6 +87,28 @@ TEST(ReferenceAgent, NegativeCountWalksBackAndPointsBelowTheOldest) {
   EXPECT_EQ(back.number("(//MaterialLoad)[1]/@sequence"), start + 3);
   EXPECT_EQ(back.number("(//MaterialLoad)[2]/@sequence"), start + 4);
   EXPECT_EQ(back.number("//Header/@nextSequence"), start + 2);
+}
+
+TEST(ReferenceAgent, CreationTimeIsTheResponseTimeEvenFromTheCache) {
+  auto agent = test::announced_cell();
+  const std::vector<std::string> targets{"/current", "/probe", "/current?format=json",
+                                         "/robot/probe"};
+  std::vector<std::string> first;
+  for (const std::string& t : targets) first.push_back(get(*agent, t).body);  // cached now
+  // Polls the clock (at most a second) until its second turns.
+  using std::chrono::floor;
+  using std::chrono::seconds;
+  using std::chrono::system_clock;
+  const auto rendered = floor<seconds>(system_clock::now());
+  while (floor<seconds>(system_clock::now()) == rendered) std::this_thread::yield();
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const std::string again = get(*agent, targets[i]).body;
+    EXPECT_NE(test::creation_time(again), test::creation_time(first[i])) << targets[i];
+    EXPECT_FALSE(test::creation_time(again).empty()) << targets[i];
+    // The same document otherwise: served from the cache.
+    EXPECT_EQ(test::without_creation_time(again), test::without_creation_time(first[i]))
+        << targets[i];
+  }
 }
 
 }  // namespace
