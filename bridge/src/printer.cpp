@@ -108,6 +108,15 @@ void add_observation(pugi::xml_node parent, const DataItemInfo& item, const Obse
   }
 }
 
+// The Device that stands for the bridge before any device is known.
+DeviceInfo stand_in_device(const HeaderInfo& h) {
+  DeviceInfo info;
+  info.id = "mtc_bridge";
+  info.name = h.sender;
+  info.uuid = h.sender + "-bridge";
+  return info;
+}
+
 pugi::xml_node add_device_stream(pugi::xml_node streams, const DeviceInfo& info) {
   pugi::xml_node ds = streams.append_child("DeviceStream");
   ds.append_attribute("name") = info.name.c_str();
@@ -200,6 +209,15 @@ std::string Printer::probe(const HeaderInfo& h, const DeviceModel& model,
     if (!device || *device == index) devices.append_copy(dev);
     ++index;
   }
+  if (!devices.child("Device")) {
+    // Before any device is known: every schema wants a Device. The bridge
+    // stands in, with no data items (nothing of it is streamed).
+    const DeviceInfo info = stand_in_device(h);
+    pugi::xml_node bridge = devices.append_child("Device");
+    bridge.append_attribute("id") = info.id.c_str();
+    bridge.append_attribute("name") = info.name.c_str();
+    bridge.append_attribute("uuid") = info.uuid.c_str();
+  }
   return serialise(doc, pretty);
 }
 
@@ -236,8 +254,9 @@ std::string Printer::streams(const HeaderInfo& h, const DeviceModel& model,
     }
   }
   const std::size_t first = device.value_or(0);
-  if (version_ == SchemaVersion::V1_3 && !streams.first_child() && first < model.devices().size()) {
-    add_device_stream(streams, model.devices()[first]);
+  if (version_ == SchemaVersion::V1_3 && !streams.first_child()) {
+    add_device_stream(streams,
+                      first < model.devices().size() ? model.devices()[first] : stand_in_device(h));
   }
   return serialise(doc, pretty);
 }

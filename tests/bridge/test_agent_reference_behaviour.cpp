@@ -89,6 +89,23 @@ TEST(ReferenceAgent, NegativeCountWalksBackAndPointsBelowTheOldest) {
   EXPECT_EQ(back.number("//Header/@nextSequence"), start + 2);
 }
 
+TEST(ReferenceAgent, ProbeBeforeAnyDeviceValidates) {
+  for (const SchemaVersion v :
+       {SchemaVersion::V1_3, SchemaVersion::V1_6, SchemaVersion::V1_8, SchemaVersion::V2_0}) {
+    auto agent = make_agent(test::cell_options(v));
+    const Response probe = get(*agent, "/probe");
+    EXPECT_EQ(probe.status, 200);
+    expect_valid(probe.body, "MTConnectDevices", v);
+    // The stand-in has no data items: nothing streams that probe lacks.
+    EXPECT_EQ(Doc(probe.body).count("//DataItem"), 0u);
+    expect_valid(get(*agent, "/current").body, "MTConnectStreams", v);
+    agent->add_device(test::mill());  // a real device replaces the stand-in
+    Doc after(get(*agent, "/probe").body);
+    EXPECT_EQ(after.count("//Device"), 1u);
+    EXPECT_EQ(after.text("//Device/@name"), "mill");
+  }
+}
+
 TEST(ReferenceAgent, CreationTimeIsTheResponseTimeEvenFromTheCache) {
   auto agent = test::announced_cell();
   const std::vector<std::string> targets{"/current", "/probe", "/current?format=json",
