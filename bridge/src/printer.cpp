@@ -101,6 +101,10 @@ void add_observation(pugi::xml_node parent, const DataItemInfo& item, const Obse
   if (!item.name.empty()) e.append_attribute("name") = item.name.c_str();
   e.append_attribute("sequence") = static_cast<unsigned long long>(o.sequence);
   if (!item.sub_type.empty()) e.append_attribute("subType") = item.sub_type.c_str();
+  // Required by the 2.0 schema; the bridge keeps no assets, so no type.
+  if (item.type == "ASSET_CHANGED" || item.type == "ASSET_REMOVED") {
+    e.append_attribute("assetType") = "";
+  }
   if (condition) {
     e.append_attribute("type") = item.type.c_str();
   } else {

@@ -89,6 +89,39 @@ TEST(ReferenceAgent, NegativeCountWalksBackAndPointsBelowTheOldest) {
   EXPECT_EQ(back.number("//Header/@nextSequence"), start + 2);
 }
 
+// Every device has ASSET_CHANGED and ASSET_REMOVED (added to a Devices file
+// that lacks them), reading UNAVAILABLE; probe and current validate.
+TEST(ReferenceAgent, EveryDeviceHasTheAssetItems) {
+  for (const SchemaVersion v : {SchemaVersion::V1_3, SchemaVersion::V1_6, SchemaVersion::V2_0}) {
+    auto announced = test::announced_cell(v);
+    AgentOptions o = test::cell_options(v);
+    o.devices_file = test::devices_file("cell_" + std::string(to_string(v)) + ".xml");
+    auto from_file = make_agent(o);
+    for (MtconnectAgent* agent : {announced.get(), from_file.get()}) {
+      const Response probe = get(*agent, "/probe");
+      Doc p(probe.body);
+      const std::size_t devices = p.count("//Device");
+      EXPECT_EQ(p.count("//Device/DataItems/DataItem[@type='ASSET_CHANGED']"), devices);
+      EXPECT_EQ(p.count("//Device/DataItems/DataItem[@type='ASSET_REMOVED']"), devices);
+      // The 2.0 Devices XSD has no interface elements (schemas README):
+      // checked below with a device without interfaces.
+      if (v != SchemaVersion::V2_0) expect_valid(probe.body, "MTConnectDevices", v);
+      const Response current = get(*agent, "/current");
+      Doc c(current.body);
+      EXPECT_EQ(c.count("//AssetChanged[.='UNAVAILABLE']"), devices) << to_string(v);
+      EXPECT_EQ(c.count("//AssetRemoved[.='UNAVAILABLE']"), devices) << to_string(v);
+      expect_valid(current.body, "MTConnectStreams", v);
+    }
+  }
+  auto bare = make_agent(test::cell_options(SchemaVersion::V2_0));
+  core::ObservedDevice mill = test::mill();
+  mill.interfaces.clear();
+  bare->add_device(mill);
+  const Response probe = get(*bare, "/probe");
+  EXPECT_EQ(Doc(probe.body).count("//DataItem[@type='ASSET_REMOVED']"), 1u);
+  expect_valid(probe.body, "MTConnectDevices", SchemaVersion::V2_0);
+}
+
 TEST(ReferenceAgent, ProbeBeforeAnyDeviceValidates) {
   for (const SchemaVersion v :
        {SchemaVersion::V1_3, SchemaVersion::V1_6, SchemaVersion::V1_8, SchemaVersion::V2_0}) {
