@@ -89,6 +89,15 @@ struct AgentStats {
   std::string last_unknown;          // "<device_uuid>/<data_item_id>"
 };
 
+// One observation of a data item, as an adapter (SHDR) passes it on.
+struct ItemObservation {
+  std::uint64_t sequence = 0;
+  std::int64_t time_ns = 0;
+  std::string item;  // the data item's id in the Devices model (probe)
+  std::string value;
+  bool condition = false;  // CONDITION category: value is the level
+};
+
 class MtconnectAgent : public Agent {
  public:
   ~MtconnectAgent() override = default;
@@ -109,6 +118,16 @@ class MtconnectAgent : public Agent {
   // The device's announcement writer is gone: every item of the device,
   // including AVAILABILITY, reads UNAVAILABLE.
   virtual void device_lost(const std::string& device_uuid) = 0;
+
+  // --- observations by item (the SHDR adapter) ---
+  // The latest observation of every data item, in model order; `next` is
+  // the sequence the next change will have.
+  virtual std::vector<ItemObservation> latest_observations(std::uint64_t& next) const = 0;
+  // Up to `max` observations from sequence `from` on, appended to `out`;
+  // `next` is where to go on. False when `from` was overwritten (the
+  // reader fell behind the buffer).
+  virtual bool observations_since(std::uint64_t from, std::size_t max,
+                                  std::vector<ItemObservation>& out, std::uint64_t& next) const = 0;
 
   virtual AgentStats stats() const = 0;
   virtual SchemaVersion schema_version() const noexcept = 0;
