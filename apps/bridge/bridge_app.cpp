@@ -2,18 +2,34 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <iostream>
 #include <sstream>
 
 namespace mtc::bridge {
 
+namespace {
+
+// The agent's options with its warnings (DDS values no DataItem of the
+// Devices file takes, once per item) logged on stderr.
+AgentOptions logging_warnings(AgentOptions options) {
+  options.on_warning = [](const std::string& warning) {
+    std::cerr << "mtc-bridge: warning: " << warning << std::endl;
+  };
+  return options;
+}
+
+}  // namespace
+
 BridgeApp::BridgeApp(const BridgeConfig& config)
-    : config_(config), agent_(make_agent(config.agent)) {
+    : config_(config), agent_(make_agent(logging_warnings(config.agent))) {
   server_ = std::make_unique<HttpServer>(agent_, config_.server);
+  if (config_.shdr_enabled) shdr_ = std::make_unique<ShdrAdapter>(agent_, config_.shdr);
   observe_domains();
 }
 
 BridgeApp::~BridgeApp() {
   observers_.clear();  // no more intake before the server goes
+  if (shdr_) shdr_->stop();
   if (server_) {
     server_->stop();
   }
@@ -48,6 +64,7 @@ void BridgeApp::run(std::ostream& log) {
     }
   });
   server_->start();
+  if (shdr_) shdr_->start();
 
   std::ostringstream domains;
   for (std::size_t i = 0; i < config_.domain_ids.size(); ++i) {
@@ -60,10 +77,16 @@ void BridgeApp::run(std::ostream& log) {
       << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
                                              : config_.agent.devices_file)
       << ")" << std::endl;
+  if (shdr_) {
+    const bool shdr_v6 = shdr_->bind_address().find(':') != std::string::npos;
+    log << "mtc-bridge: SHDR adapter for MTConnect agents on " << (shdr_v6 ? "[" : "")
+        << shdr_->bind_address() << (shdr_v6 ? "]" : "") << ":" << shdr_->port() << std::endl;
+  }
 
   signals_context.run();  // until a signal arrives
   log << "mtc-bridge: signal " << received << ", stopping" << std::endl;
   observers_.clear();
+  if (shdr_) shdr_->stop();
   server_->stop();
   log << "mtc-bridge: stopped" << std::endl;
 }

@@ -9,6 +9,7 @@
 #include "bridge_config.hpp"
 #include "mtc/bridge/http_server.hpp"
 #include "mtc/bridge/mtconnect_agent.hpp"
+#include "mtc/bridge/shdr_adapter.hpp"
 #include "mtc/dds/domain_observer.hpp"
 
 namespace mtc::bridge {
@@ -17,7 +18,8 @@ class BridgeApp {
  public:
   // Builds the agent (throws ModelError for a bad Devices file), binds the
   // HTTP port (std::system_error) and joins the DDS domains (mtc::dds
-  // errors). Nothing is served until run().
+  // errors), and the SHDR port when configured. Nothing is served until
+  // run().
   explicit BridgeApp(const BridgeConfig& config);
   ~BridgeApp();
   BridgeApp(const BridgeApp&) = delete;
@@ -35,6 +37,7 @@ class BridgeApp {
   BridgeConfig config_;
   std::shared_ptr<MtconnectAgent> agent_;
   std::unique_ptr<HttpServer> server_;
+  std::unique_ptr<ShdrAdapter> shdr_;  // when configured
   std::vector<std::unique_ptr<dds::DomainObserver>> observers_;
 };
 

@@ -219,7 +219,30 @@ void set_path_visits(BridgeConfig& c, std::string_view v, const std::string& ori
       parse_int<std::uint64_t>(v, 1000, std::uint64_t{1} << 40, origin, "PathMaxVisits"));
 }
 
-const std::array<Setting, 22> kSettings{{
+void set_shdr_adapter(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  if (v != "yes" && v != "no" && v != "true" && v != "false") {
+    fail(origin, "ShdrAdapter must be yes or no, not '" + std::string(v) + "'");
+  }
+  c.shdr_enabled = v == "yes" || v == "true";
+}
+
+void set_shdr_port(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.shdr.port = parse_int<std::uint16_t>(v, 0, 65535, origin, "ShdrPort");
+  c.shdr_enabled = true;
+}
+
+void set_shdr_ip(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  const std::string text(v);
+  std::array<unsigned char, 16> bytes{};
+  if (inet_pton(AF_INET, text.c_str(), bytes.data()) != 1 &&
+      inet_pton(AF_INET6, text.c_str(), bytes.data()) != 1) {
+    fail(origin, "ShdrIp must be an IPv4 or IPv6 address, not '" + text + "'");
+  }
+  c.shdr.bind_address = text;
+  c.shdr_enabled = true;
+}
+
+const std::array<Setting, 25> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -283,6 +306,13 @@ const std::array<Setting, 22> kSettings{{
      [](const BridgeConfig& c) { return show_ms(c.server.idle_timeout); }},
     {"WriteTimeoutMs", "--write-timeout-ms", "time a client may take to read a write",
      set_write_timeout, [](const BridgeConfig& c) { return show_ms(c.server.write_timeout); }},
+    {"ShdrAdapter", "--shdr-adapter",
+     "yes: also serve SHDR to MTConnect agents (an adapter), on ShdrIp:ShdrPort", set_shdr_adapter,
+     [](const BridgeConfig& c) { return std::string(c.shdr_enabled ? "yes" : "no"); }},
+    {"ShdrPort", "--shdr-port", "SHDR adapter port (implies ShdrAdapter = yes), 0 = any free",
+     set_shdr_port, [](const BridgeConfig& c) { return std::to_string(c.shdr.port); }},
+    {"ShdrIp", "--shdr-ip", "SHDR adapter address (implies ShdrAdapter = yes)", set_shdr_ip,
+     [](const BridgeConfig& c) { return c.shdr.bind_address; }},
 }};
 
 const Setting* find_key(std::string_view key) {

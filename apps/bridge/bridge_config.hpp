@@ -16,6 +16,7 @@
 
 #include "mtc/bridge/http_server.hpp"
 #include "mtc/bridge/mtconnect_agent.hpp"
+#include "mtc/bridge/shdr_adapter.hpp"
 #include "mtc/dds/domain_observer.hpp"
 
 namespace mtc::bridge {
@@ -35,6 +36,10 @@ struct BridgeConfig {
   // per entry of domain_ids.
   dds::DomainObserverOptions observer;
   std::vector<int> domain_ids{0};  // DomainIds
+  // ShdrAdapter (yes/no), ShdrPort, ShdrIp: the bridge as an SHDR adapter
+  // for existing MTConnect agents; off unless one of them is given.
+  bool shdr_enabled = false;
+  ShdrOptions shdr;
 };
 
 // A configuration mistake: `what()` names the origin ("agent.cfg:7" or

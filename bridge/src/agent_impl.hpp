@@ -47,6 +47,9 @@ class AgentImpl final : public MtconnectAgent {
   void items_lost(const std::string& received_uuid,
                   const std::vector<std::string>& received_ids) override;
   void device_lost(const std::string& received_uuid) override;
+  std::vector<ItemObservation> latest_observations(std::uint64_t& next) const override;
+  bool observations_since(std::uint64_t from, std::size_t max, std::vector<ItemObservation>& out,
+                          std::uint64_t& next) const override;
   AgentStats stats() const override;
   SchemaVersion schema_version() const noexcept override { return printer_.version(); }
   std::uint64_t instance_id() const noexcept override { return instance_id_; }

@@ -252,8 +252,10 @@ void AgentImpl::add_value(const core::ObservedValue& received) {
       }
       if (from_file_ && options_.on_warning && warned_.size() < kMaxPending &&
           warned_.insert(key).second) {
-        warning = "value for " + stats_.last_unknown + " dropped: no such DataItem in " +
-                  options_.devices_file;
+        warning = "DDS values of device '" + value.device_uuid + "' interface '" +
+                  value.interface_id + "' item '" + value.data_item_id +
+                  "' are dropped: no DataItem of " + options_.devices_file +
+                  " maps to them (said once per item)";
       }
     }
     if (!item) {

@@ -49,6 +49,22 @@ RequestError out_of_range(std::string text) {
   return {"OUT_OF_RANGE", 400, std::move(text)};
 }
 
+// A cached document's header creationTime set to now: it is the time of
+// the response (as from the reference agent), not of the render. Both the
+// XML (creationTime="...") and the JSON ("creationTime":"...") forms.
+std::string with_fresh_creation_time(std::string body) {
+  constexpr std::string_view kName = "creationTime";
+  const std::size_t name = body.find(kName);
+  if (name == std::string::npos) return body;
+  std::size_t i = name + kName.size();
+  if (i < body.size() && body[i] == '"') ++i;  // JSON: the key's closing quote
+  const std::size_t open = body.find('"', i);
+  const std::size_t close = open == std::string::npos ? open : body.find('"', open + 1);
+  if (close == std::string::npos) return body;
+  body.replace(open + 1, close - open - 1, format_creation_time(now_ns()));
+  return body;
+}
+
 constexpr std::string_view kJsonType = "application/json";
 constexpr std::string_view kXmlType = "text/xml";
 
@@ -277,8 +293,9 @@ Response AgentImpl::probe(const Query& q) {
   {
     std::lock_guard lock(cache_mutex_);
     const auto it = cache_.find(key);
-    if (it != cache_.end() && it->second.generation == generation_)
-      return {200, type, it->second.body};
+    if (it != cache_.end() && it->second.generation == generation_) {
+      return {200, type, with_fresh_creation_time(it->second.body)};
+    }
   }
   std::string body = q.json ? json_printer_.probe(header(), model_, q.device_index, q.pretty)
                             : printer_.probe(header(), model_, q.device_index, q.pretty);
@@ -299,17 +316,17 @@ Response AgentImpl::current(const Query& q, const std::string& cache_key) {
     const auto it = cache_.find(cache_key);
     if (it != cache_.end() && it->second.generation == generation_ &&
         it->second.next_sequence == buffer_.next_sequence()) {
-      return {200, std::string(q.json ? kJsonType : kXmlType), it->second.body};
+      return {200, std::string(q.json ? kJsonType : kXmlType),
+              with_fresh_creation_time(it->second.body)};
     }
   }
   const std::vector<std::int32_t> filter = item_filter(q);
   std::vector<StreamEntry> entries;
   std::vector<Observation> state;
   HeaderInfo h = header();
-  if (q.at) {
-    state = buffer_.state_at(static_cast<std::uint64_t>(*q.at));
-    h.next_sequence = static_cast<std::uint64_t>(*q.at) + 1;
-  }
+  // nextSequence stays the buffer's, after `at` too, as the reference
+  // agent answers.
+  if (q.at) state = buffer_.state_at(static_cast<std::uint64_t>(*q.at));
   for (std::size_t slot = 0; slot < filter.size(); ++slot) {
     if (filter[slot] < 0) continue;
     const Observation* o = nullptr;

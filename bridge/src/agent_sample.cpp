@@ -3,9 +3,11 @@
 // count > 0: the first `count` matching observations from `from` (default:
 // firstSequence) up to, not including, `to` (default: nextSequence);
 // nextSequence is the sequence after the last one examined.
-// count < 0: the last |count| matching observations below `to` (default:
-// nextSequence) and not below `from`; printed oldest first; nextSequence is
-// the sequence after the range examined.
+// count < 0, as the reference agent: the |count| matching observations
+// walking back from `from` (default: lastSequence) to firstSequence,
+// printed oldest first; nextSequence is the sequence below the oldest one
+// examined (where a client walking back goes on). `to` takes no negative
+// count.
 // Either way a document stops at AgentOptions::max_document_bytes: a
 // positive count then ends before the first observation left out (its
 // nextSequence), a negative one keeps the newest.
@@ -80,10 +82,13 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
     }
     end = seq;
   } else {
-    for (std::uint64_t seq = upper; seq > lower && entries.size() < wanted; --seq) {
-      const Observation* o = selected(seq - 1);
+    const auto from = static_cast<std::uint64_t>(q.from.value_or(next));
+    std::uint64_t seq = std::min(from, static_cast<std::uint64_t>(next) - 1);
+    for (; seq >= static_cast<std::uint64_t>(first) && seq > 0 && entries.size() < wanted; --seq) {
+      const Observation* o = selected(seq);
       if (o && !take(o)) break;  // the newest ones that fit
     }
+    end = seq;
     std::reverse(entries.begin(), entries.end());
   }
   HeaderInfo h = header();

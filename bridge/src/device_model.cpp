@@ -121,6 +121,9 @@ void DeviceModel::index_component(pugi::xml_node node, std::size_t device, SlotR
   comp.name = node.attribute("name").value();
   comp.element = node.name();
   comp.device = device;
+  for (pugi::xml_node ref : node.child("References").children("DataItemRef")) {
+    comp.data_item_refs.emplace_back(ref.attribute("idRef").value());
+  }
   components_.push_back(std::move(comp));
   const std::size_t component = components_.size() - 1;
   const std::string& uuid = devices_[device].uuid;

@@ -1,9 +1,11 @@
 // DeviceModel from the devices' DDS announcements: one Device per
-// announcement, holding an AVAILABILITY item and an Interfaces component
+// announcement, holding AVAILABILITY, ASSET_CHANGED and ASSET_REMOVED items
+// and an Interfaces component
 // with one *Interface component per announced interface. The agent hands
 // announcements over with their text already fit for XML (make_xml_safe).
 #include <cctype>
 #include <map>
+#include <tuple>
 #include <unordered_set>
 
 #include "mtc/bridge/device_model.hpp"
@@ -18,6 +20,12 @@ namespace {
 const std::string kAvailabilityKey =
     "\x01"
     "availability";
+const std::string kAssetChangedKey =
+    "\x01"
+    "asset_changed";
+const std::string kAssetRemovedKey =
+    "\x01"
+    "asset_removed";
 
 // Makes `text` a valid xs:ID (NCName) that no other element uses.
 class IdMaker {
@@ -69,12 +77,20 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
     dev.append_attribute("name") = name.c_str();
     dev.append_attribute("uuid") = announced.device_uuid.c_str();
 
-    pugi::xml_node avail = dev.append_child("DataItems").append_child("DataItem");
-    const std::string avail_id = ids.make(dev_id + "_avail", "avail");
-    avail.append_attribute("category") = "EVENT";
-    avail.append_attribute("id") = avail_id.c_str();
-    avail.append_attribute("type") = "AVAILABILITY";
-    model.source_of_xml_id_[avail_id] = kAvailabilityKey;
+    // AVAILABILITY, and the asset items every device of the reference
+    // agent has (the bridge keeps no assets: they read UNAVAILABLE).
+    pugi::xml_node device_items = dev.append_child("DataItems");
+    for (const auto& [suffix, type, key] :
+         {std::tuple{"_avail", "AVAILABILITY", &kAvailabilityKey},
+          std::tuple{"_asset_chg", "ASSET_CHANGED", &kAssetChangedKey},
+          std::tuple{"_asset_rem", "ASSET_REMOVED", &kAssetRemovedKey}}) {
+      pugi::xml_node item = device_items.append_child("DataItem");
+      const std::string item_id = ids.make(dev_id + suffix, "item");
+      item.append_attribute("category") = "EVENT";
+      item.append_attribute("id") = item_id.c_str();
+      item.append_attribute("type") = type;
+      model.source_of_xml_id_[item_id] = *key;
+    }
 
     auto qualified = [&](const std::string& id) {
       const auto it = uses.find(id);

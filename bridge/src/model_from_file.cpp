@@ -43,6 +43,8 @@ class FileChecker {
     }
   }
 
+  const std::set<std::string>& ids() const { return ids_; }
+
   void check_id(pugi::xml_node node) {
     require(node, "id");
     if (!ids_.insert(node.attribute("id").value()).second) {
@@ -195,6 +197,34 @@ pugi::xml_node checked_devices(pugi::xml_node root, FileChecker& check) {
   return devices;
 }
 
+// Each Device gets the ASSET_CHANGED and ASSET_REMOVED items the reference
+// agent adds to devices whose file lacks them. Ids: "<device id>_asset_chg"
+// (made unique). The schemas want DataItems after Description and
+// Configuration, before Components.
+void add_asset_items(pugi::xml_node devices, const std::set<std::string>& used_ids) {
+  std::set<std::string> ids = used_ids;
+  for (pugi::xml_node dev : devices.children("Device")) {
+    pugi::xml_node items = dev.child("DataItems");
+    if (!items) {
+      pugi::xml_node after =
+          dev.child("Configuration") ? dev.child("Configuration") : dev.child("Description");
+      items = after ? dev.insert_child_after("DataItems", after) : dev.prepend_child("DataItems");
+    }
+    for (const auto& [type, suffix] :
+         {std::pair{"ASSET_CHANGED", "_asset_chg"}, std::pair{"ASSET_REMOVED", "_asset_rem"}}) {
+      if (items.find_child_by_attribute("DataItem", "type", type)) continue;
+      std::string id = std::string(dev.attribute("id").value()) + suffix;
+      for (int n = 2; !ids.insert(id).second; ++n) {
+        id = std::string(dev.attribute("id").value()) + suffix + "_" + std::to_string(n);
+      }
+      pugi::xml_node item = items.append_child("DataItem");
+      item.append_attribute("category") = "EVENT";
+      item.append_attribute("id") = id.c_str();
+      item.append_attribute("type") = type;
+    }
+  }
+}
+
 }  // namespace
 
 DeviceModel DeviceModel::from_file(const std::string& path, SlotRegistry& slots,
@@ -238,7 +268,7 @@ DeviceModel DeviceModel::from_text(std::string_view xml, const std::string& name
   if (!prefix.empty()) strip_prefix(root, prefix);
 
   const pugi::xml_node devices = checked_devices(root, check);
-  model.doc_.append_copy(devices);
+  add_asset_items(model.doc_.append_copy(devices), check.ids());
   model.index(slots);
   return model;
 }

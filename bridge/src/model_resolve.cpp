@@ -24,6 +24,35 @@ bool names_interface(const ComponentInfo& c, const std::string& interface_id) {
 
 }  // namespace
 
+// (item, the interface component it stands in) for a hint: the device's
+// interfaces' own items and the items they reference with DataItemRef.
+std::vector<std::pair<std::size_t, std::size_t>> DeviceModel::interface_candidates(
+    std::size_t device, const ItemHint& hint) const {
+  std::vector<std::pair<std::size_t, std::size_t>> candidates;
+  auto fits = [&](std::size_t i) {
+    const DataItemInfo& di = items_[i];
+    return di.device == device && di.type == hint.type && di.sub_type == hint.sub_type;
+  };
+  for (std::size_t c = 0; c < components_.size(); ++c) {
+    const ComponentInfo& comp = components_[c];
+    if (comp.device != device || !is_interface_element(comp.element)) continue;
+    if (!hint.interface_element.empty() && comp.element != hint.interface_element) continue;
+    for (const std::string& ref : comp.data_item_refs) {
+      const auto it = item_by_xml_id_.find(ref);
+      if (it != item_by_xml_id_.end() && fits(it->second)) candidates.emplace_back(it->second, c);
+    }
+  }
+  for (std::size_t i = 0; i < items_.size(); ++i) {
+    const std::size_t c = items_[i].component;
+    if (!fits(i) || !is_interface_element(components_[c].element)) continue;
+    if (!hint.interface_element.empty() && components_[c].element != hint.interface_element) {
+      continue;
+    }
+    candidates.emplace_back(i, c);
+  }
+  return candidates;
+}
+
 std::optional<std::size_t> DeviceModel::resolve_item(const std::string& device_uuid,
                                                      const std::string& source_id,
                                                      const ItemHint& hint) {
@@ -47,27 +76,19 @@ std::optional<std::size_t> DeviceModel::resolve_item(const std::string& device_u
     }
   }
   if (hint.type.empty()) return std::nullopt;
-  std::vector<std::size_t> candidates;
-  for (std::size_t i = 0; i < items_.size(); ++i) {
-    const DataItemInfo& di = items_[i];
-    if (di.device != *device || di.type != hint.type || di.sub_type != hint.sub_type) {
-      continue;
-    }
-    const ComponentInfo& comp = components_[di.component];
-    if (!is_interface_element(comp.element)) continue;
-    if (!hint.interface_element.empty() && comp.element != hint.interface_element) continue;
-    candidates.push_back(i);
-  }
+  auto candidates = interface_candidates(*device, hint);
   // An interface id that names one of the components decides, even when
   // its item was already given away (then there is no match, rather than a
   // wrong one).
-  std::vector<std::size_t> named;
-  for (std::size_t i : candidates) {
-    if (names_interface(components_[items_[i].component], hint.interface_id)) named.push_back(i);
+  std::vector<std::pair<std::size_t, std::size_t>> named;
+  for (const auto& candidate : candidates) {
+    if (names_interface(components_[candidate.second], hint.interface_id)) {
+      named.push_back(candidate);
+    }
   }
   if (!named.empty() || candidates.size() > 1) candidates.swap(named);
-  if (candidates.size() != 1 || claimed_[candidates.front()]) return std::nullopt;
-  return remember(candidates.front());
+  if (candidates.size() != 1 || claimed_[candidates.front().first]) return std::nullopt;
+  return remember(candidates.front().first);
 }
 
 }  // namespace mtc::bridge

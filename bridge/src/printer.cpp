@@ -101,11 +101,31 @@ void add_observation(pugi::xml_node parent, const DataItemInfo& item, const Obse
   if (!item.name.empty()) e.append_attribute("name") = item.name.c_str();
   e.append_attribute("sequence") = static_cast<unsigned long long>(o.sequence);
   if (!item.sub_type.empty()) e.append_attribute("subType") = item.sub_type.c_str();
+  // Required by the 2.0 schema; the bridge keeps no assets, so no type.
+  if (item.type == "ASSET_CHANGED" || item.type == "ASSET_REMOVED") {
+    e.append_attribute("assetType") = "";
+  }
   if (condition) {
     e.append_attribute("type") = item.type.c_str();
   } else {
     e.text().set(o.value.c_str());
   }
+}
+
+// The Device that stands for the bridge before any device is known.
+DeviceInfo stand_in_device(const HeaderInfo& h) {
+  DeviceInfo info;
+  info.id = "mtc_bridge";
+  info.name = h.sender;
+  info.uuid = h.sender + "-bridge";
+  return info;
+}
+
+pugi::xml_node add_device_stream(pugi::xml_node streams, const DeviceInfo& info) {
+  pugi::xml_node ds = streams.append_child("DeviceStream");
+  ds.append_attribute("name") = info.name.c_str();
+  ds.append_attribute("uuid") = info.uuid.c_str();
+  return ds;
 }
 
 // One ComponentStream from entries[begin, end) (all of one component).
@@ -193,6 +213,15 @@ std::string Printer::probe(const HeaderInfo& h, const DeviceModel& model,
     if (!device || *device == index) devices.append_copy(dev);
     ++index;
   }
+  if (!devices.child("Device")) {
+    // Before any device is known: every schema wants a Device. The bridge
+    // stands in, with no data items (nothing of it is streamed).
+    const DeviceInfo info = stand_in_device(h);
+    pugi::xml_node bridge = devices.append_child("Device");
+    bridge.append_attribute("id") = info.id.c_str();
+    bridge.append_attribute("name") = info.name.c_str();
+    bridge.append_attribute("uuid") = info.uuid.c_str();
+  }
   return serialise(doc, pretty);
 }
 
@@ -214,11 +243,12 @@ std::string Printer::streams(const HeaderInfo& h, const DeviceModel& model,
   std::size_t next = 0;
   for (std::size_t d = 0; d < model.devices().size(); ++d) {
     if (device && *device != d) continue;
-    const DeviceInfo& info = model.devices()[d];
-    pugi::xml_node ds = streams.append_child("DeviceStream");
-    ds.append_attribute("name") = info.name.c_str();
-    ds.append_attribute("uuid") = info.uuid.c_str();
     while (next < sorted.size() && items[sorted[next].item].device < d) ++next;
+    // As the reference agent: a device with nothing to show has no
+    // DeviceStream (filtered /current, stream heartbeats), except that the
+    // 1.3 schema wants at least one.
+    if (next == sorted.size() || items[sorted[next].item].device != d) continue;
+    pugi::xml_node ds = add_device_stream(streams, model.devices()[d]);
     while (next < sorted.size() && items[sorted[next].item].device == d) {
       std::size_t end = next + 1;
       const std::size_t comp = items[sorted[next].item].component;
@@ -226,6 +256,11 @@ std::string Printer::streams(const HeaderInfo& h, const DeviceModel& model,
       add_component_stream(ds, model, sorted, next, end);
       next = end;
     }
+  }
+  const std::size_t first = device.value_or(0);
+  if (version_ == SchemaVersion::V1_3 && !streams.first_child()) {
+    add_device_stream(streams,
+                      first < model.devices().size() ? model.devices()[first] : stand_in_device(h));
   }
   return serialise(doc, pretty);
 }

@@ -177,6 +177,22 @@ struct Doc {
   std::uint64_t number(const char* xpath) const { return std::stoull("0" + text(xpath)); }
 };
 
+// The header's creationTime value (XML or JSON), "" when absent.
+inline std::string creation_time(const std::string& body) {
+  const std::size_t name = body.find("creationTime");
+  if (name == std::string::npos) return {};
+  const std::size_t open = body.find_first_of("0123456789", name);
+  return open == std::string::npos ? std::string() : body.substr(open, 20);
+}
+
+// `body` with its creationTime blanked, to compare documents rendered at
+// different times.
+inline std::string without_creation_time(std::string body) {
+  const std::string time = creation_time(body);
+  if (!time.empty()) body.replace(body.find(time), time.size(), time.size(), '-');
+  return body;
+}
+
 inline Response get(Agent& agent, const std::string& target) {
   Routed r = agent.route("GET", target);
   if (!r.response) return Response{0, "", "<stream/>"};

@@ -56,13 +56,14 @@ TEST(AgentStreams, PartsWalkTheBufferInCountSizedChunks) {
   }
   ASSERT_EQ(seen.size(), 7u);
   for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], start + i);
-  // Nothing new: an empty (heartbeat) document that still validates as a
-  // Streams document with the device streams.
+  // Nothing new: an empty (heartbeat) document, with no DeviceStream as
+  // from the reference agent.
   const Response idle = agent->next_part(plan);
   EXPECT_EQ(idle.status, 200);
   Doc d(idle.body);
   EXPECT_EQ(d.count("//MaterialLoad"), 0u);
-  EXPECT_EQ(d.count("/MTConnectStreams/Streams/DeviceStream"), 3u);
+  EXPECT_EQ(d.count("/MTConnectStreams/Streams"), 1u);
+  EXPECT_EQ(d.count("/MTConnectStreams/Streams/DeviceStream"), 0u);
   EXPECT_EQ(plan.next_sequence, agent->next_sequence());
 }
 

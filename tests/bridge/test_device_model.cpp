@@ -167,7 +167,7 @@ TEST(DeviceModel, PrefixedNamespaceIsAccepted) {
       "category='EVENT'/></m:DataItems></m:Device></m:Devices></m:MTConnectDevices>",
       "p.xml", slots);
   EXPECT_EQ(m.file_version(), SchemaVersion::V1_6);
-  ASSERT_EQ(m.data_items().size(), 1u);
+  ASSERT_EQ(m.data_items().size(), 3u);  // with ASSET_CHANGED and ASSET_REMOVED
   EXPECT_EQ(m.data_items()[0].element, "Availability");
 }
 
@@ -179,8 +179,8 @@ TEST(DeviceModel, AnnouncementsBuildDevicesWithInterfaces) {
   const auto load = m.find_item("robot-0001", "robot.material_load.rsp");
   ASSERT_TRUE(load.has_value());
   EXPECT_EQ(m.components()[m.data_items()[*load].component].element, "MaterialHandlerInterface");
-  // Device AVAILABILITY + 13 mill items.
-  EXPECT_EQ(m.all_items(0).size(), 14u);
+  // Device AVAILABILITY, ASSET_CHANGED, ASSET_REMOVED + 13 mill items.
+  EXPECT_EQ(m.all_items(0).size(), 16u);
 }
 
 TEST(DeviceModel, AnnouncementIdsAreMadeValidAndUnique) {

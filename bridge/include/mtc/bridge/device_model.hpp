@@ -58,6 +58,9 @@ struct ComponentInfo {
   std::string name;
   std::string element;  // e.g. "DoorInterface", "Device"
   std::size_t device = 0;
+  // idRef of each References/DataItemRef: items defined elsewhere that an
+  // interface uses (Part 5 1.6, 4.2.3.1), e.g. DOOR_STATE of a Door.
+  std::vector<std::string> data_item_refs;
 };
 
 struct DeviceInfo {
@@ -122,8 +125,10 @@ class DeviceModel {
   // Devices file written with other ids: the DataItem with id
   // "<device id or name>_<dds id>" (or '.' instead of '_'), else the only
   // DataItem of the device's *Interface components with the hint's type and
-  // subType (narrowed by interface element, then by interface id). The
-  // answer is remembered; nullopt when there is none or it is ambiguous.
+  // subType (narrowed by interface element, then by interface id); an item
+  // an interface points at with References/DataItemRef counts as that
+  // interface's. The answer is remembered; nullopt when there is none or it
+  // is ambiguous.
   std::optional<std::size_t> resolve_item(const std::string& device_uuid,
                                           const std::string& source_id, const ItemHint& hint);
 
@@ -143,6 +148,8 @@ class DeviceModel {
  private:
   void index(SlotRegistry& slots);
   void index_component(pugi::xml_node node, std::size_t device, SlotRegistry& slots);
+  std::vector<std::pair<std::size_t, std::size_t>> interface_candidates(std::size_t device,
+                                                                        const ItemHint& hint) const;
 
   pugi::xml_document doc_;
   std::optional<SchemaVersion> file_version_;

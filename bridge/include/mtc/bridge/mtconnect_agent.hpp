@@ -72,9 +72,11 @@ struct AgentOptions {
   // Time without news before a stream sends an empty part, when the request
   // names no heartbeat (MTConnect agents: 10 s).
   std::chrono::milliseconds stream_heartbeat{10000};
-  // Told (once per item, on the ingest thread, no lock held) about values
-  // the model has no item for, e.g. "value for cell-machine/foo dropped: no
-  // such DataItem in cell.xml". Empty: silent (stats() still counts).
+  // Told (once per DDS item, on the ingest thread, no lock held) about
+  // values the Devices file has no item for, naming device uuid, interface
+  // and item: "DDS values of device 'cell-machine' interface 'door' item
+  // 'door_foo' are dropped: no DataItem of cell.xml maps to them ...".
+  // Empty: silent (stats() still counts). mtc-bridge logs them on stderr.
   std::function<void(const std::string&)> on_warning;
 };
 
@@ -85,6 +87,15 @@ struct AgentStats {
   std::uint64_t unknown_values = 0;  // values for items not in the model
   std::uint64_t model_changes = 0;   // model rebuilds after announcements
   std::string last_unknown;          // "<device_uuid>/<data_item_id>"
+};
+
+// One observation of a data item, as an adapter (SHDR) passes it on.
+struct ItemObservation {
+  std::uint64_t sequence = 0;
+  std::int64_t time_ns = 0;
+  std::string item;  // the data item's id in the Devices model (probe)
+  std::string value;
+  bool condition = false;  // CONDITION category: value is the level
 };
 
 class MtconnectAgent : public Agent {
@@ -107,6 +118,16 @@ class MtconnectAgent : public Agent {
   // The device's announcement writer is gone: every item of the device,
   // including AVAILABILITY, reads UNAVAILABLE.
   virtual void device_lost(const std::string& device_uuid) = 0;
+
+  // --- observations by item (the SHDR adapter) ---
+  // The latest observation of every data item, in model order; `next` is
+  // the sequence the next change will have.
+  virtual std::vector<ItemObservation> latest_observations(std::uint64_t& next) const = 0;
+  // Up to `max` observations from sequence `from` on, appended to `out`;
+  // `next` is where to go on. False when `from` was overwritten (the
+  // reader fell behind the buffer).
+  virtual bool observations_since(std::uint64_t from, std::size_t max,
+                                  std::vector<ItemObservation>& out, std::uint64_t& next) const = 0;
 
   virtual AgentStats stats() const = 0;
   virtual SchemaVersion schema_version() const noexcept = 0;
