@@ -2,12 +2,7 @@
 // test plays the MTConnect agent on the bridge's SHDR port and sees the
 // initial state, a DDS transition as a line, PING/PONG, and the device's
 // comms loss as UNAVAILABLE. DDS domain 83 (see CMakeLists.txt).
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -16,6 +11,7 @@
 #include <string>
 
 #include "child_process.hpp"
+#include "line_client.hpp"
 #include "mtc/dds/equipment.hpp"
 
 namespace mtc::bridge::test {
@@ -23,50 +19,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// The agent's end of an SHDR connection.
-class ShdrClient {
- public:
-  explicit ShdrClient(std::uint16_t port) {
-    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_port = htons(port);
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
-  }
-  ~ShdrClient() { ::close(fd_); }
-  bool connected() const { return connected_; }
-  void send(const std::string& text) const {
-    EXPECT_EQ(::send(fd_, text.data(), text.size(), MSG_NOSIGNAL),
-              static_cast<ssize_t>(text.size()));
-  }
-  // The first line containing `text` within `timeout`.
-  std::optional<std::string> line_with(const std::string& text, std::chrono::milliseconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    for (;;) {
-      for (auto nl = buffer_.find('\n'); nl != std::string::npos; nl = buffer_.find('\n')) {
-        std::string line = buffer_.substr(0, nl);
-        buffer_.erase(0, nl + 1);
-        if (line.find(text) != std::string::npos) return line;
-      }
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-          deadline - std::chrono::steady_clock::now());
-      pollfd p{fd_, POLLIN, 0};
-      if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) {
-        return std::nullopt;
-      }
-      char chunk[8192];
-      const ssize_t n = ::recv(fd_, chunk, sizeof chunk, 0);
-      if (n <= 0) return std::nullopt;
-      buffer_.append(chunk, static_cast<std::size_t>(n));
-    }
-  }
-
- private:
-  int fd_ = -1;
-  bool connected_ = false;
-  std::string buffer_;
-};
+using ShdrClient = mtc::test::LineClient;  // the agent's end of an SHDR connection
 
 TEST(BridgeShdr, AnAgentOnTheShdrPortFollowsADdsDevice) {
   mtc::test::ChildProcess bridge({MTC_BRIDGE_EXE, "--domain-ids", "83", "--heartbeat-ms", "100",

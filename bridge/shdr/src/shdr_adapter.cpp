@@ -18,6 +18,8 @@
 #include <system_error>
 #include <thread>
 
+#include "mtc/bridge/tcp_listen.hpp"
+
 namespace mtc::bridge {
 
 namespace asio = boost::asio;
@@ -75,25 +77,7 @@ struct ShdrAdapter::Impl {
 };
 
 void ShdrAdapter::Impl::listen() {
-  boost::system::error_code ec;
-  const auto address = asio::ip::make_address(options.bind_address, ec);
-  if (ec) throw std::system_error(ec, "invalid SHDR bind address '" + options.bind_address + "'");
-  const tcp::endpoint endpoint(address, options.port);
-  auto check = [&](const char* what) {
-    if (ec) {
-      throw std::system_error(ec, std::string(what) + " " + options.bind_address + ":" +
-                                      std::to_string(options.port) + " (SHDR)");
-    }
-  };
-  acceptor.open(endpoint.protocol(), ec);
-  check("cannot open a socket for");
-  acceptor.set_option(asio::socket_base::reuse_address(true), ec);
-  check("cannot set SO_REUSEADDR on");
-  acceptor.bind(endpoint, ec);
-  check("cannot bind");
-  acceptor.listen(asio::socket_base::max_listen_connections, ec);
-  check("cannot listen on");
-  port = acceptor.local_endpoint().port();
+  port = listen_on(acceptor, options.bind_address, options.port, "SHDR");
 }
 
 void ShdrAdapter::Impl::accept() {
