@@ -309,6 +309,42 @@ void EquipmentImpl::on_deadline_missed(std::size_t group) {
   }
 }
 
+// The backstop behind the DDS cues: an Up interface whose counterpart has
+// been silent for a lease plus half a heartbeat (one heartbeat after the cues'
+// own rule) is lost even if no cue came. One can stay away for good: an
+// interface that went Up on a value before its counterpart's heartbeat
+// writer matched has no heartbeat instance whose DEADLINE could be missed
+// and no heartbeat writer whose liveliness could lapse, so a cable pull then
+// went unnoticed until the participant lease (2 s) unmatched the writers.
+namespace {
+std::chrono::nanoseconds backstop_silence(const qos::Timing& timing) {
+  return timing.lease() + timing.heartbeat / 2;
+}
+}  // namespace
+
+SteadyClock::time_point EquipmentImpl::next_silence_check() const {
+  auto wake = SteadyClock::time_point::max();
+  const auto steady_now = SteadyClock::now();
+  const auto real_now = topics::realtime_ns();
+  for (const auto& itf : interfaces) {
+    if (itf->link.load() != LinkState::Up || itf->last_heard_ns == 0) continue;
+    const auto due = itf->last_heard_ns + backstop_silence(groups[itf->group]->timing).count();
+    wake = std::min(wake, steady_now + std::chrono::nanoseconds(due - real_now));
+  }
+  return wake;
+}
+
+void EquipmentImpl::check_silence() {
+  const auto now = topics::realtime_ns();
+  for (auto& itf : interfaces) {
+    if (itf->link.load() != LinkState::Up || itf->last_heard_ns == 0) continue;
+    const auto silence = std::chrono::nanoseconds(now - itf->last_heard_ns);
+    if (silence < backstop_silence(groups[itf->group]->timing)) continue;
+    link_lost(*itf, "nothing heard for " + std::to_string(silence.count() / 1000000) +
+                        " ms (no DDS loss cue came)");
+  }
+}
+
 // Disposal or loss of every writer of an instance: the counterpart said so
 // itself, so no silence check applies (DEADLINE misses go through
 // on_deadline_missed instead). A heartbeat instance stands for every

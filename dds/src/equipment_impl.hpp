@@ -251,6 +251,8 @@ struct EquipmentImpl {
   void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
                       bool check_silence);
   void on_deadline_missed(std::size_t group);
+  SteadyClock::time_point next_silence_check() const;
+  void check_silence();
   void on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
                                 const char* cause, bool check_silence);
   bool recently_heard(std::size_t group, std::int64_t last_ns, const std::string& what);

@@ -160,7 +160,7 @@ void EquipmentImpl::try_issue(ServiceSlot& slot, SteadyClock::time_point now) {
 }
 
 SteadyClock::time_point EquipmentImpl::next_wake() const {
-  auto wake = SteadyClock::time_point::max();
+  auto wake = next_silence_check();
   for (const auto& itf : interfaces) wake = std::min(wake, itf->model->next_deadline());
   for (const auto& s : slots) {
     if (s->pending && !s->pending->issued) wake = std::min(wake, s->pending->ready_deadline);
@@ -169,6 +169,7 @@ SteadyClock::time_point EquipmentImpl::next_wake() const {
 }
 
 void EquipmentImpl::on_wake(SteadyClock::time_point now) {
+  check_silence();
   for (auto& itf : interfaces) {
     // At most one limit per machine per on_tick; bounded loop for safety.
     for (int i = 0; i < 32 && itf->model->next_deadline() <= now; ++i) {

@@ -91,8 +91,8 @@ TEST_F(CommsLoss, OutageFailsBothSidesAndRecoversToReady) {
   RecordProperty("cnc_detection_ms", static_cast<int>(cnc_detect));
   RecordProperty("robot_detection_ms", static_cast<int>(robot_detect));
   // Lease 300 ms; generous bound for 2 busy cores.
-  EXPECT_LT(cnc_detect, 2000);
-  EXPECT_LT(robot_detect, 2000);
+  EXPECT_LT(cnc_detect, 2000) << cnc_rec.dump();
+  EXPECT_LT(robot_detect, 2000) << robot_rec.dump();
   EXPECT_TRUE(cnc_rec.wait_state(req, InteractionState::Fail)) << cnc_rec.dump();
   EXPECT_TRUE(robot_rec.wait_state(resp, InteractionState::Fail)) << robot_rec.dump();
   EXPECT_EQ(req.counterpart_state(), InteractionState::Unavailable);
