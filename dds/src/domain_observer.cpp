@@ -6,6 +6,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <vector>
 
 #include "domain_tap.hpp"
 #include "executor.hpp"
@@ -55,6 +56,9 @@ struct DomainObserver::Impl {
   std::set<ItemKey> lost_items;
   std::set<std::string> lost_devices;
   detail::PeerGroups peer_groups;
+  // Groups already reported lost by silence (a cue or the backstop), so
+  // the backstop neither repeats itself nor wakes for them again.
+  std::set<detail::PeerGroupKey> silent_groups;
   // The newest incarnation heard of each device: news of an earlier one
   // (restarted under the same uuid; its participant outlives it by up to a
   // participant lease) must not turn the current one's items UNAVAILABLE.
@@ -114,6 +118,7 @@ struct DomainObserver::Impl {
     heartbeat_instances[e.instance] = {h.device_uuid, h.group};
     incarnation[h.device_uuid] = detail::participant_of(e.writer);
     const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
+    silent_groups.erase(key);
     const auto repair = std::chrono::nanoseconds(std::chrono::milliseconds(h.lease_ms)).count();
     if (auto report = peer_groups.behind_report(key, h.reception_time_ns, repair)) {
       std::cerr << "mtc::dds::DomainObserver: " << *report << '\n';
@@ -208,6 +213,16 @@ struct DomainObserver::Impl {
     writers.erase(it);
   }
 
+  // A group's lease and heartbeat period: what its heartbeats announce.
+  std::pair<std::chrono::nanoseconds, std::chrono::nanoseconds> timing_of(
+      const detail::PeerGroup& group) const {
+    using std::chrono::milliseconds;
+    const auto& h = group.newest;
+    const auto lease = h.lease_ms != 0 ? milliseconds(h.lease_ms) : options.timing.lease();
+    const auto period = h.period_ms != 0 ? milliseconds(h.period_ms) : options.timing.heartbeat;
+    return {lease, period};
+  }
+
   // A heartbeat writer's lease expired (checked against the silence rule
   // with the device's own lease) or the writer went away (not checked).
   void heartbeat_writer_lost(const detail::WriterLivelinessEvent& e,
@@ -216,18 +231,53 @@ struct DomainObserver::Impl {
     if (!e.unmatched) {
       const auto* group = peer_groups.find(copy);
       if (group == nullptr) return;
-      using std::chrono::milliseconds;
-      const auto& h = group->newest;
-      const auto lease = h.lease_ms != 0 ? milliseconds(h.lease_ms) : options.timing.lease();
-      const auto period = h.period_ms != 0 ? milliseconds(h.period_ms) : options.timing.heartbeat;
+      const auto [lease, period] = timing_of(*group);
       if (!detail::silent_for_a_lease(group->last_heartbeat_ns, topics::realtime_ns(), lease,
                                       period)) {
         return;
       }
+      silent_groups.insert(copy);
     } else {
       peer_groups.forget_writer(e.writer);
     }
     group_lost(copy);
+  }
+
+  // The backstop behind the liveliness cue (as in the Equipment): a group
+  // silent for its lease plus half its period is lost even if Fast DDS never
+  // reported its writer's liveliness lost (measured: 3 of 12 cable pulls in
+  // CommsLoss.OutageFailsBothSidesAndRecoversToReady, whose items the bridge
+  // would have kept AVAILABLE until the participant lease, 2 s).
+  static std::chrono::nanoseconds backstop(std::chrono::nanoseconds lease,
+                                           std::chrono::nanoseconds period) {
+    return lease + period / 2;
+  }
+
+  detail::Executor::Clock::time_point next_silence_check() const {
+    auto wake = detail::Executor::Clock::time_point::max();
+    const auto steady_now = detail::Executor::Clock::now();
+    const auto real_now = topics::realtime_ns();
+    peer_groups.for_each([&](const detail::PeerGroupKey& key, const detail::PeerGroup& group) {
+      if (!group.heard() || silent_groups.count(key) != 0) return;
+      const auto [lease, period] = timing_of(group);
+      const auto due = group.last_heartbeat_ns + backstop(lease, period).count();
+      wake = std::min(wake, steady_now + std::chrono::nanoseconds(due - real_now));
+    });
+    return wake;
+  }
+
+  void check_silence() {
+    const auto now = topics::realtime_ns();
+    std::vector<detail::PeerGroupKey> silent;
+    peer_groups.for_each([&](const detail::PeerGroupKey& key, const detail::PeerGroup& group) {
+      if (!group.heard() || silent_groups.count(key) != 0) return;
+      const auto [lease, period] = timing_of(group);
+      if (now - group.last_heartbeat_ns >= backstop(lease, period).count()) silent.push_back(key);
+    });
+    for (const auto& key : silent) {
+      silent_groups.insert(key);
+      group_lost(key);
+    }
   }
 
   void handle(detail::InstanceGoneEvent& e) {
@@ -273,7 +323,8 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
                       " outside 0.." + std::to_string(qos::kMaxDomainId));
   }
   auto* impl = impl_.get();
-  impl->executor.start(nullptr, nullptr);
+  impl->executor.start([impl] { return impl->next_silence_check(); },
+                       [impl](detail::Executor::Clock::time_point) { impl->check_silence(); });
   qos::ParticipantConfig pc;
   pc.name = "mtc-observer";
   pc.transport = options.transport;

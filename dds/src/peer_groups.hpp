@@ -64,6 +64,11 @@ class PeerGroups {
   const PeerGroupKey* heartbeat_writer(const Handle& writer) const;
   // Drops what is known of a heartbeat writer's group (the writer is gone).
   void forget_writer(const Handle& writer);
+  // Calls fn(key, group) for every group known.
+  template <typename Fn>
+  void for_each(Fn&& fn) const {
+    for (const auto& [key, group] : groups_) fn(key, group);
+  }
 
   static PeerGroupKey key_of(const Handle& writer, const std::string& device, std::uint32_t group) {
     return {device, group, participant_of(writer)};

@@ -59,9 +59,21 @@ TEST_F(CommsLoss, OutageFailsBothSidesAndRecoversToReady) {
     observed_robot = observed_robot || v.data_item_id == "mh1_material_load_response";
     cv.notify_all();
   };
+  std::chrono::steady_clock::time_point observer_lost_at{};
   ocb.on_items_lost = [&](const std::string& dev, const std::vector<std::string>& items) {
     std::lock_guard<std::mutex> l(m);
-    if (dev == "robot-6") lost_items.insert(lost_items.end(), items.begin(), items.end());
+    if (dev == "robot-6") {
+      lost_items.insert(lost_items.end(), items.begin(), items.end());
+      if (observer_lost_at == std::chrono::steady_clock::time_point{}) {
+        observer_lost_at = std::chrono::steady_clock::now();
+      }
+    }
+    cv.notify_all();
+  };
+  int robot_beats = 0;
+  ocb.on_heartbeat = [&](const ObservedHeartbeat& h) {
+    std::lock_guard<std::mutex> l(m);
+    if (h.device_uuid == "robot-6") ++robot_beats;
     cv.notify_all();
   };
   DomainObserverOptions oo;
@@ -79,7 +91,9 @@ TEST_F(CommsLoss, OutageFailsBothSidesAndRecoversToReady) {
   ASSERT_TRUE(robot_rec.wait([&] { return resp.counterpart_state() == InteractionState::Ready; }));
   {
     std::unique_lock<std::mutex> l(m);
-    ASSERT_TRUE(cv.wait_for(l, kTimeout, [&] { return observed_robot; }));
+    // The observer's loss detection rides on the robot's heartbeat: it
+    // must have heard one (a value alone can arrive first).
+    ASSERT_TRUE(cv.wait_for(l, kTimeout, [&] { return observed_robot && robot_beats > 0; }));
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -102,6 +116,12 @@ TEST_F(CommsLoss, OutageFailsBothSidesAndRecoversToReady) {
       return std::find(lost_items.begin(), lost_items.end(), "mh1_material_load_response") !=
              lost_items.end();
     }));
+    // The observer (what the bridge runs) must not keep the cut robot's items
+    // AVAILABLE until the participant lease (2 s).
+    const auto observer_detect =
+        std::chrono::duration_cast<std::chrono::milliseconds>(observer_lost_at - start).count();
+    RecordProperty("observer_detection_ms", static_cast<int>(observer_detect));
+    EXPECT_LT(observer_detect, 2000);
   }
 
   const auto restored = std::chrono::steady_clock::now();
