@@ -187,14 +187,25 @@ void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Han
 
 // Hands one counterpart value to the application and, for an interaction
 // item, to the machine of our opposite side.
+// The application hears of the value before the transitions it causes (a
+// log reads cause, then effect), yet counterpart_state() already shows it
+// during that callback: an application that waits for the callback and then
+// asks must not see the state from before (the machine's step sets the same
+// snapshot again right after).
 void EquipmentImpl::deliver(InterfaceSlot& itf, const ObservedValue& v, bool missed_change) {
+  ServiceSlot* slot = nullptr;
+  if (v.kind() == ItemKind::Interaction && v.service && v.sub_type) {
+    const auto role =
+        *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
+    slot = slot_for(itf, *v.service, role);
+  }
+  if (slot != nullptr) {
+    if (const auto parsed = v.state.interaction()) slot->snap_counterpart = *parsed;
+  }
   if (callbacks.on_counterpart_value) {
     guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
   }
-  if (v.kind() != ItemKind::Interaction || !v.service || !v.sub_type) return;
-  const auto role =
-      *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
-  if (auto* slot = slot_for(itf, *v.service, role)) feed_counterpart(*slot, v, missed_change);
+  if (slot != nullptr) feed_counterpart(*slot, v, missed_change);
 }
 
 // A counterpart heartbeat: the link is alive. After a loss it comes back

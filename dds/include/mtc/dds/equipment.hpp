@@ -172,7 +172,8 @@ struct EquipmentCallbacks {
   // heartbeats are back (redelivered = true). A device also writes an item
   // that has not changed for a long while again (same value and source
   // time, new sequence number; see docs/heartbeat.md). Heartbeats themselves
-  // are not values.
+  // are not values. Called before the transitions the value causes; the
+  // handle's counterpart_state() already shows the value by then.
   std::function<void(const ObservedValue&)> on_counterpart_value;
   // Diagnostics: incompatible QoS offered by a peer, callback exceptions,
   // heartbeats withheld by the watchdog, announced changes not received.
