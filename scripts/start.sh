@@ -1,72 +1,54 @@
 #!/usr/bin/env bash
 # The README's main command: builds the project, then runs the simulated cell
-# (machine tool, robot, bar feeder: apps/cell) and the MTConnect bridge
-# together inside one private, loopback-only network namespace.
+# (machine tool, robot, bar feeder: apps/cell) and the MTConnect bridge on
+# this host. Open http://localhost:5000/ in a browser (the live page; /probe,
+# /current, /sample as from any MTConnect agent).
 #
 # Usage:
 #   ./scripts/start.sh [--no-build] [--port N] [--domain D] [cell options]
 #                                      run the cell and the bridge (Ctrl-C stops both);
 #                                      bridge port default 5000, DDS domain default 110
 #   ./scripts/start.sh --query PATH    from another terminal: GET PATH from the running bridge
-#   ./scripts/start.sh --enter [CMD]   from another terminal: a shell (or CMD) inside the namespace
 #
 # Cell options go to mtc-cell: --cycles N, --duration S, --seed N, --fail-every K,
 # --pace-ms MS, --comms-loss-every S, --heartbeat-ms MS, --missed-heartbeats N
 # (the bridge gets these two as well), --threads (see `build/apps/mtc-cell --help`).
-# The namespace has no route to anything but itself, so a browser outside it
-# cannot reach the bridge: --query and --enter step into it with nsenter.
+# DDS stays on this host by its transport configuration (qos::Transport::
+# Loopback: UDP on 127.0.0.1 and shared memory, discovery by unicast on
+# 127.0.0.1, no multicast) and the bridge listens on 127.0.0.1 only; no
+# network namespace is needed (tests/scripts/check_loopback_confinement.sh).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
-# Where the running cell leaves its namespace's pid and its port for --query
-# and --enter (tests point MTC_CELL_STATE_DIR elsewhere so they never touch
-# the state of a cell a person is running from the same build).
+# Where the running cell leaves its pid and its bridge port for --query (tests
+# point MTC_CELL_STATE_DIR elsewhere so they never touch the state of a cell a
+# person is running from the same build).
 state="${MTC_CELL_STATE_DIR:-$build}"
-pidfile="$state/mtc-cell.netns.pid"  # a process inside the running cell's namespace
+pidfile="$state/mtc-cell.pid"  # this script, while it runs the cell
 port_file="$state/mtc-cell.port"
 domain=110                            # DDS domain of the cell (ids 100-119: cell and benchmarks)
 port=5000
 
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 
-# Prints the pid of a process in the running cell's namespace, or fails.
-cell_ns_pid() {
-  local pid
-  pid="$(cat "$pidfile" 2>/dev/null || true)"
-  if [ -z "$pid" ] || [ ! -e "/proc/$pid/ns/net" ] ||
-     [ "$(readlink "/proc/$pid/ns/net")" = "$(readlink /proc/self/ns/net)" ]; then
-    echo "start.sh: no cell is running (start one with ./scripts/start.sh)" >&2
-    return 1
-  fi
-  echo "$pid"
-}
-
-# Runs a command inside the running cell's namespace. netns-run.sh gives
-# root a plain network namespace and others a user namespace as well.
-in_cell_ns() {
-  local pid
-  pid="$(cell_ns_pid)" || exit 1
-  if [ "$(id -u)" -eq 0 ]; then
-    exec nsenter --target "$pid" --net -- "$@"
-  fi
-  exec nsenter --target "$pid" --user --net --preserve-credentials -- "$@"
-}
-
 case "${1:-}" in
   -h|--help) usage; exit 0 ;;
   --query)
     path="${2:-/current}"
     case "$path" in /*) ;; *) path="/$path" ;; esac
-    [ -r "$port_file" ] && port="$(cat "$port_file")"
-    in_cell_ns curl -sS --fail-with-body --max-time 10 "http://127.0.0.1:${port}${path}" ;;
-  --enter)
-    shift
-    if [ $# -eq 0 ]; then
-      echo "start.sh: shell inside the cell's namespace; try: curl -s http://127.0.0.1:$port/current" >&2
-      echo "          or: $build/apps/mtc --help (DDS domain $domain). exit leaves." >&2
-      in_cell_ns bash -i
+    pid="$(cat "$pidfile" 2>/dev/null || true)"
+    if [ -z "$pid" ] || ! kill -0 "$pid" 2>/dev/null; then
+      echo "start.sh: no cell is running (start one with ./scripts/start.sh)" >&2
+      exit 1
     fi
-    in_cell_ns "$@" ;;
+    [ -r "$port_file" ] && port="$(cat "$port_file")"
+    exec curl -sS --fail-with-body --max-time 10 "http://127.0.0.1:${port}${path}" ;;
+  # The cell used to run in a private network namespace that this option
+  # stepped into; it runs on the host now, so any terminal will do.
+  --enter)
+    echo "start.sh: --enter is gone: the cell runs on this host; use curl or" \
+      "$build/apps/mtc (DDS domain $domain) from any terminal" >&2
+    exit 2 ;;
 esac
 
 # ---------------------------------------------------------------- run
@@ -87,7 +69,6 @@ while [ $# -gt 0 ]; do
       need_value "$@"; bridge_timing+=("$1" "$2"); cell_args+=("$1" "$2"); shift 2 ;;
     --port) need_value "$@"; port="$2"; shift 2 ;;
     --domain) need_value "$@"; domain="$2"; shift 2 ;;
-    --inner) shift ;;  # set by the re-exec below
     # mtc-cell checks the values; an unknown option stops here, before a build.
     --cycles | --duration | --seed | --fail-every | --pace-ms | --comms-loss-every)
       need_value "$@"; cell_args+=("$1" "$2"); shift 2 ;;
@@ -96,17 +77,12 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-if [ "${MTC_IN_NETNS:-}" != "1" ]; then
-  if [ "$build_first" = 1 ]; then
-    "$root/scripts/build.sh"
-  fi
-  # SHM segments of a cell killed earlier would only confuse the new one.
-  fastdds shm clean >/dev/null 2>&1 || true
-  exec "$root/scripts/netns-run.sh" "$0" --inner --no-build --port "$port" --domain "$domain" \
-    "${cell_args[@]}"
+if [ "$build_first" = 1 ]; then
+  "$root/scripts/build.sh"
 fi
+# SHM segments of a cell killed earlier would only confuse the new one.
+fastdds shm clean >/dev/null 2>&1 || true
 
-# ------------------------------------------- inside the namespace from here
 cell="$build/apps/mtc-cell"
 bridge="$build/apps/mtc-bridge"
 bridge_log="$build/mtc-bridge.log"
@@ -131,7 +107,8 @@ echo "$port" >"$port_file"
 if [ -x "$bridge" ]; then
   # Same heartbeat as the cell, so the bridge matches the stations' writers
   # and declares a device lost when the stations would.
-  "$bridge" --domain-ids "$domain" --port "$port" "${bridge_timing[@]}" \
+  # 127.0.0.1 only: the agent is for this host's browser, not the network.
+  "$bridge" --domain-ids "$domain" --server-ip 127.0.0.1 --port "$port" "${bridge_timing[@]}" \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
   # Wait until the agent answers (it also needs no device yet to answer).
@@ -152,13 +129,15 @@ fi
 cat <<EOF
 ================================================================================
  mtconnect-dds simulated cell: machine tool + robot + bar feeder on DDS domain $domain
- running in a private loopback-only network namespace (pid $$).
- MTConnect agent (mtc-bridge): http://127.0.0.1:$port/probe  /current  /sample
+ (DDS on this host only: UDP on 127.0.0.1 and shared memory).
+ MTConnect agent (mtc-bridge), open in a browser on this host:
+   http://localhost:$port/          live page of every device and handshake
+   http://localhost:$port/probe  /current  /sample
    (log: $bridge_log)
- That address exists only inside the namespace. From another terminal:
+ From another terminal:
    ./scripts/start.sh --query /current               # current values of every data item
    ./scripts/start.sh --query '/sample?count=50'     # the last handshakes as they happened
-   ./scripts/start.sh --enter                        # a shell inside: curl, $build/apps/mtc
+   $build/apps/mtc watch --domain $domain            # the DDS side, live
  Stop with Ctrl-C.
 ================================================================================
 EOF
