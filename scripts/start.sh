@@ -1,54 +1,120 @@
 #!/usr/bin/env bash
 # The README's main command: builds the project, then runs the simulated cell
-# (machine tool, robot, bar feeder: apps/cell) and the MTConnect bridge on
-# this host. Open http://localhost:5000/ in a browser (the live page; /probe,
-# /current, /sample as from any MTConnect agent).
+# (machine tool, robot, bar feeder: apps/cell) and the MTConnect bridge
+# together inside one private, loopback-only network namespace.
 #
 # Usage:
 #   ./scripts/start.sh [--no-build] [--port N] [--domain D] [cell options]
 #                                      run the cell and the bridge (Ctrl-C stops both);
 #                                      bridge port default 5000, DDS domain default 110
 #   ./scripts/start.sh --query PATH    from another terminal: GET PATH from the running bridge
+#   ./scripts/start.sh --enter [CMD]   from another terminal: a shell (or CMD) inside the namespace
+#   ./scripts/start.sh --forward [PORT]
+#                                      from another terminal, opt-in: relay 127.0.0.1:PORT on the
+#                                      host (default: the bridge's port) to the bridge's HTTP port
+#                                      in the namespace, for a browser on the host (Ctrl-C stops;
+#                                      it also stops with the cell)
 #
 # Cell options go to mtc-cell: --cycles N, --duration S, --seed N, --fail-every K,
 # --pace-ms MS, --comms-loss-every S, --heartbeat-ms MS, --missed-heartbeats N
 # (the bridge gets these two as well), --threads (see `build/apps/mtc-cell --help`).
-# DDS stays on this host by its transport configuration (qos::Transport::
-# Loopback: UDP on 127.0.0.1 and shared memory, discovery by unicast on
-# 127.0.0.1, no multicast) and the bridge listens on 127.0.0.1 only; no
-# network namespace is needed (tests/scripts/check_loopback_confinement.sh).
+# The namespace has no route to anything but itself, so a browser outside it
+# cannot reach the bridge: --query and --enter step into it with nsenter, and
+# --forward relays HTTP connections into it (socat on the host, bound to
+# 127.0.0.1; each connection is carried by a socat that nsenter starts inside
+# the namespace). Only the bridge's HTTP port crosses: DDS stays inside, where
+# it is also confined by its transport (UDP on 127.0.0.1 and shared memory,
+# unicast discovery; docs/runtime-qos.md, Transports).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
-# Where the running cell leaves its pid and its bridge port for --query (tests
-# point MTC_CELL_STATE_DIR elsewhere so they never touch the state of a cell a
-# person is running from the same build).
+# Where the running cell leaves its namespace's pid and its port for --query
+# and --enter (tests point MTC_CELL_STATE_DIR elsewhere so they never touch
+# the state of a cell a person is running from the same build).
 state="${MTC_CELL_STATE_DIR:-$build}"
-pidfile="$state/mtc-cell.pid"  # this script, while it runs the cell
+pidfile="$state/mtc-cell.netns.pid"  # a process inside the running cell's namespace
 port_file="$state/mtc-cell.port"
 domain=110                            # DDS domain of the cell (ids 100-119: cell and benchmarks)
 port=5000
 
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
+usage_error() { echo "start.sh: $*" >&2; usage >&2; exit 2; }
+
+# Prints the pid of a process in the running cell's namespace, or fails.
+cell_ns_pid() {
+  local pid
+  pid="$(cat "$pidfile" 2>/dev/null || true)"
+  if [ -z "$pid" ] || [ ! -e "/proc/$pid/ns/net" ] ||
+     [ "$(readlink "/proc/$pid/ns/net")" = "$(readlink /proc/self/ns/net)" ]; then
+    echo "start.sh: no cell is running (start one with ./scripts/start.sh)" >&2
+    return 1
+  fi
+  echo "$pid"
+}
+
+# Prints the nsenter command line that steps into the namespace of process
+# $1. netns-run.sh gives root a plain network namespace and others a user
+# namespace as well.
+nsenter_line() {
+  if [ "$(id -u)" -eq 0 ]; then
+    echo "nsenter --target $1 --net --"
+  else
+    echo "nsenter --target $1 --user --net --preserve-credentials --"
+  fi
+}
+
+# Runs a command inside the running cell's namespace.
+in_cell_ns() {
+  local pid
+  pid="$(cell_ns_pid)" || exit 1
+  # shellcheck disable=SC2046  # the line is words without spaces inside
+  exec $(nsenter_line "$pid") "$@"
+}
+
+# Relays 127.0.0.1:$1 on this side to the bridge's port inside the running
+# cell's namespace until the cell stops (or Ctrl-C). HTTP only: one TCP
+# port, to 127.0.0.1 inside; no DDS crosses.
+forward_to_cell() {
+  local host_port="$1" pid relay_pid watch_pid rc=0
+  case "$host_port" in '' | *[!0-9]*) usage_error "--forward needs a port number, not '$host_port'" ;; esac
+  command -v socat >/dev/null ||
+    { echo "start.sh: --forward needs socat (run scripts/setup-deps.sh)" >&2; exit 1; }
+  pid="$(cell_ns_pid)" || exit 1
+  socat -lpstart.sh-forward "TCP-LISTEN:$host_port,bind=127.0.0.1,reuseaddr,fork" \
+    "EXEC:$(nsenter_line "$pid") socat STDIO TCP\:127.0.0.1\:$port" &
+  relay_pid=$!
+  tail --pid="$pid" -f /dev/null &  # ends when the cell's start.sh ends
+  watch_pid=$!
+  trap 'kill "$relay_pid" "$watch_pid" 2>/dev/null || true' EXIT
+  echo "start.sh: http://127.0.0.1:$host_port/ on this host now reaches the bridge" \
+    "(port $port inside the cell's namespace); Ctrl-C stops the forward" >&2
+  wait -n "$relay_pid" "$watch_pid" || rc=$?
+  if ! kill -0 "$pid" 2>/dev/null; then
+    echo "start.sh: the cell stopped; forward closed" >&2
+    exit 0
+  fi
+  echo "start.sh: the forward stopped (socat exit code $rc)" >&2
+  exit 1
+}
 
 case "${1:-}" in
   -h|--help) usage; exit 0 ;;
   --query)
     path="${2:-/current}"
     case "$path" in /*) ;; *) path="/$path" ;; esac
-    pid="$(cat "$pidfile" 2>/dev/null || true)"
-    if [ -z "$pid" ] || ! kill -0 "$pid" 2>/dev/null; then
-      echo "start.sh: no cell is running (start one with ./scripts/start.sh)" >&2
-      exit 1
-    fi
     [ -r "$port_file" ] && port="$(cat "$port_file")"
-    exec curl -sS --fail-with-body --max-time 10 "http://127.0.0.1:${port}${path}" ;;
-  # The cell used to run in a private network namespace that this option
-  # stepped into; it runs on the host now, so any terminal will do.
+    in_cell_ns curl -sS --fail-with-body --max-time 10 "http://127.0.0.1:${port}${path}" ;;
   --enter)
-    echo "start.sh: --enter is gone: the cell runs on this host; use curl or" \
-      "$build/apps/mtc (DDS domain $domain) from any terminal" >&2
-    exit 2 ;;
+    shift
+    if [ $# -eq 0 ]; then
+      echo "start.sh: shell inside the cell's namespace; try: curl -s http://127.0.0.1:$port/current" >&2
+      echo "          or: $build/apps/mtc --help (DDS domain $domain). exit leaves." >&2
+      in_cell_ns bash -i
+    fi
+    in_cell_ns "$@" ;;
+  --forward)
+    [ -r "$port_file" ] && port="$(cat "$port_file")"
+    forward_to_cell "${2:-$port}" ;;
 esac
 
 # ---------------------------------------------------------------- run
@@ -59,7 +125,6 @@ cell_args=()
 # with the reader's own lease). Both default to the runtime's timing
 # (qos::Timing), so the flags are handed to the bridge only when given.
 bridge_timing=()
-usage_error() { echo "start.sh: $*" >&2; usage >&2; exit 2; }
 need_value() { [ $# -ge 2 ] || usage_error "$1 needs a value"; }
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -69,6 +134,7 @@ while [ $# -gt 0 ]; do
       need_value "$@"; bridge_timing+=("$1" "$2"); cell_args+=("$1" "$2"); shift 2 ;;
     --port) need_value "$@"; port="$2"; shift 2 ;;
     --domain) need_value "$@"; domain="$2"; shift 2 ;;
+    --inner) shift ;;  # set by the re-exec below
     # mtc-cell checks the values; an unknown option stops here, before a build.
     --cycles | --duration | --seed | --fail-every | --pace-ms | --comms-loss-every)
       need_value "$@"; cell_args+=("$1" "$2"); shift 2 ;;
@@ -77,12 +143,17 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-if [ "$build_first" = 1 ]; then
-  "$root/scripts/build.sh"
+if [ "${MTC_IN_NETNS:-}" != "1" ]; then
+  if [ "$build_first" = 1 ]; then
+    "$root/scripts/build.sh"
+  fi
+  # SHM segments of a cell killed earlier would only confuse the new one.
+  fastdds shm clean >/dev/null 2>&1 || true
+  exec "$root/scripts/netns-run.sh" "$0" --inner --no-build --port "$port" --domain "$domain" \
+    "${cell_args[@]}"
 fi
-# SHM segments of a cell killed earlier would only confuse the new one.
-fastdds shm clean >/dev/null 2>&1 || true
 
+# ------------------------------------------- inside the namespace from here
 cell="$build/apps/mtc-cell"
 bridge="$build/apps/mtc-bridge"
 bridge_log="$build/mtc-bridge.log"
@@ -107,7 +178,7 @@ echo "$port" >"$port_file"
 if [ -x "$bridge" ]; then
   # Same heartbeat as the cell, so the bridge matches the stations' writers
   # and declares a device lost when the stations would.
-  # 127.0.0.1 only: the agent is for this host's browser, not the network.
+  # 127.0.0.1 only, even inside the namespace: --forward reaches it there.
   "$bridge" --domain-ids "$domain" --server-ip 127.0.0.1 --port "$port" "${bridge_timing[@]}" \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
@@ -129,15 +200,15 @@ fi
 cat <<EOF
 ================================================================================
  mtconnect-dds simulated cell: machine tool + robot + bar feeder on DDS domain $domain
- (DDS on this host only: UDP on 127.0.0.1 and shared memory).
- MTConnect agent (mtc-bridge), open in a browser on this host:
-   http://localhost:$port/          live page of every device and handshake
-   http://localhost:$port/probe  /current  /sample
+ running in a private loopback-only network namespace (pid $$).
+ MTConnect agent (mtc-bridge): http://127.0.0.1:$port/probe  /current  /sample
    (log: $bridge_log)
- From another terminal:
+ That address exists only inside the namespace. From another terminal:
    ./scripts/start.sh --query /current               # current values of every data item
    ./scripts/start.sh --query '/sample?count=50'     # the last handshakes as they happened
-   $build/apps/mtc watch --domain $domain            # the DDS side, live
+   ./scripts/start.sh --enter                        # a shell inside: curl, $build/apps/mtc
+   ./scripts/start.sh --forward                      # opt-in: http://127.0.0.1:$port/ on the host
+                                                     # (the live page in a browser; HTTP only)
  Stop with Ctrl-C.
 ================================================================================
 EOF

@@ -142,7 +142,7 @@ case "$mode" in
     kill -TERM "$pid"
     rc=0
     wait "$pid" || rc=$?
-    [ -e "$state/mtc-cell.pid" ] && fail "start.sh left its pid file behind"
+    [ -e "$state/mtc-cell.netns.pid" ] && fail "start.sh left its pid file behind"
     rmdir "$state"
     [ "$rc" = 0 ] || fail "start.sh exit code $rc after SIGTERM"
     for needle in "${needles[@]}"; do

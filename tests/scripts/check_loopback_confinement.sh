@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# DDS is confined to the host by its transport configuration, not by a
-# namespace (issue 12): runs ./scripts/start.sh (the cell and the bridge) in a
+# The second layer of confinement: DDS stays on loopback by its transport
+# configuration alone, not only because start.sh runs it in a loopback-only
+# namespace (issue 12). Runs ./scripts/start.sh's cell and bridge (told that
+# they are in a namespace already, so start.sh makes none) in a
 # network namespace that also has a veth link to a second namespace, with a
 # private address, a default route and the multicast range routed through it,
 # so anything not meant for 127.0.0.1 would leave through that link. Checks
@@ -73,7 +75,8 @@ tx_packets() { awk -v d="$1:" '$1 == d { print $11 }' /proc/net/dev; }
 tx_before="$(tx_packets "$veth")"
 [ -n "$tx_before" ] || fail "no counters for $veth"
 
-MTC_BUILD_DIR="$build" MTC_CELL_STATE_DIR="$state" "$root/scripts/start.sh" --no-build \
+# MTC_IN_NETNS=1: start.sh runs the cell right here, next to the veth.
+MTC_IN_NETNS=1 MTC_BUILD_DIR="$build" MTC_CELL_STATE_DIR="$state" "$root/scripts/start.sh" --no-build \
   --domain "$domain" --port "$port" --pace-ms 10 >"$log" 2>&1 &
 start_pid=$!
 timeout 60 grep -m1 -q "cycle 2 complete" <(tail -n +1 -f "$log") || fail "no cycle completed"
