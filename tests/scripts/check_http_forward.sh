@@ -41,6 +41,8 @@ cleanup() {
   rm -rf "$log" "$forward_log" "$state"
 }
 trap cleanup EXIT
+# A ctest timeout or Ctrl-C ends the test through exit, so the cell stops too.
+trap 'exit 1' TERM INT HUP
 fail() {
   echo "FAIL: $*" >&2
   echo "---- start.sh output ----" >&2

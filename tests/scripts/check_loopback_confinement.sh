@@ -45,6 +45,8 @@ cleanup() {
   rm -rf "$log" "$state"
 }
 trap cleanup EXIT
+# A ctest timeout or Ctrl-C ends the test through exit, so the cell stops too.
+trap 'exit 1' TERM INT HUP
 fail() {
   echo "FAIL: $*" >&2
   echo "---- start.sh output ----" >&2
