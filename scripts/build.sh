@@ -4,7 +4,11 @@
 #
 # Usage: scripts/build.sh
 # Environment: MTC_BUILD_DIR (default <repo>/build), MTC_BUILD_TYPE (default
-# RelWithDebInfo), MTC_WERROR=ON to make warnings errors (default OFF).
+# RelWithDebInfo), MTC_WERROR (default ON: warnings are errors).
+# A build folder that is already configured keeps its configuration unless
+# MTC_BUILD_TYPE or MTC_WERROR is set: the test command (scripts/test.sh) and
+# the main command (scripts/start.sh) both build through here, and a switch
+# that differed between them would make the second recompile everything.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
@@ -15,6 +19,14 @@ case "${1:-}" in
 esac
 build="${MTC_BUILD_DIR:-$root/build}"
 "$root/scripts/setup-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE="${MTC_BUILD_TYPE:-RelWithDebInfo}" \
-  -DMTC_WERROR="${MTC_WERROR:-OFF}" >/dev/null
+config=()
+configured=0
+[ -f "$build/CMakeCache.txt" ] && configured=1
+if [ -n "${MTC_BUILD_TYPE:-}" ] || [ "$configured" = 0 ]; then
+  config+=(-DCMAKE_BUILD_TYPE="${MTC_BUILD_TYPE:-RelWithDebInfo}")
+fi
+if [ -n "${MTC_WERROR:-}" ] || [ "$configured" = 0 ]; then
+  config+=(-DMTC_WERROR="${MTC_WERROR:-ON}")
+fi
+cmake -S "$root" -B "$build" "${config[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)"

@@ -20,6 +20,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev               # tests and benchmarks
   libxml2-utils                                            # xmllint schema checks
   iproute2 util-linux                                      # ip, unshare: loopback-only netns
+  socat                                                    # start.sh --forward: HTTP into the netns
   curl wrk                                                 # HTTP checks and load
   python3                                                  # benchmark plots and summaries
   gnuplot-nox                                              # benchmarks/run.sh latency plots (PNG);

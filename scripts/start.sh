@@ -9,12 +9,22 @@
 #                                      bridge port default 5000, DDS domain default 110
 #   ./scripts/start.sh --query PATH    from another terminal: GET PATH from the running bridge
 #   ./scripts/start.sh --enter [CMD]   from another terminal: a shell (or CMD) inside the namespace
+#   ./scripts/start.sh --forward [PORT]
+#                                      from another terminal, opt-in: relay 127.0.0.1:PORT on the
+#                                      host (default: the bridge's port) to the bridge's HTTP port
+#                                      in the namespace, for a browser on the host (Ctrl-C stops;
+#                                      it also stops with the cell)
 #
 # Cell options go to mtc-cell: --cycles N, --duration S, --seed N, --fail-every K,
 # --pace-ms MS, --comms-loss-every S, --heartbeat-ms MS, --missed-heartbeats N
 # (the bridge gets these two as well), --threads (see `build/apps/mtc-cell --help`).
 # The namespace has no route to anything but itself, so a browser outside it
-# cannot reach the bridge: --query and --enter step into it with nsenter.
+# cannot reach the bridge: --query and --enter step into it with nsenter, and
+# --forward relays HTTP connections into it (socat on the host, bound to
+# 127.0.0.1; each connection is carried by a socat that nsenter starts inside
+# the namespace). Only the bridge's HTTP port crosses: DDS stays inside, where
+# it is also confined by its transport (UDP on 127.0.0.1 and shared memory,
+# unicast discovery; docs/runtime-qos.md, Transports).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
@@ -28,6 +38,7 @@ domain=110                            # DDS domain of the cell (ids 100-119: cel
 port=5000
 
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
+usage_error() { echo "start.sh: $*" >&2; usage >&2; exit 2; }
 
 # Prints the pid of a process in the running cell's namespace, or fails.
 cell_ns_pid() {
@@ -41,15 +52,49 @@ cell_ns_pid() {
   echo "$pid"
 }
 
-# Runs a command inside the running cell's namespace. netns-run.sh gives
-# root a plain network namespace and others a user namespace as well.
+# Prints the nsenter command line that steps into the namespace of process
+# $1. netns-run.sh gives root a plain network namespace and others a user
+# namespace as well.
+nsenter_line() {
+  if [ "$(id -u)" -eq 0 ]; then
+    echo "nsenter --target $1 --net --"
+  else
+    echo "nsenter --target $1 --user --net --preserve-credentials --"
+  fi
+}
+
+# Runs a command inside the running cell's namespace.
 in_cell_ns() {
   local pid
   pid="$(cell_ns_pid)" || exit 1
-  if [ "$(id -u)" -eq 0 ]; then
-    exec nsenter --target "$pid" --net -- "$@"
+  # shellcheck disable=SC2046  # the line is words without spaces inside
+  exec $(nsenter_line "$pid") "$@"
+}
+
+# Relays 127.0.0.1:$1 on this side to the bridge's port inside the running
+# cell's namespace until the cell stops (or Ctrl-C). HTTP only: one TCP
+# port, to 127.0.0.1 inside; no DDS crosses.
+forward_to_cell() {
+  local host_port="$1" pid relay_pid watch_pid rc=0
+  case "$host_port" in '' | *[!0-9]*) usage_error "--forward needs a port number, not '$host_port'" ;; esac
+  command -v socat >/dev/null ||
+    { echo "start.sh: --forward needs socat (run scripts/setup-deps.sh)" >&2; exit 1; }
+  pid="$(cell_ns_pid)" || exit 1
+  socat -lpstart.sh-forward "TCP-LISTEN:$host_port,bind=127.0.0.1,reuseaddr,fork" \
+    "EXEC:$(nsenter_line "$pid") socat STDIO TCP\:127.0.0.1\:$port" &
+  relay_pid=$!
+  tail --pid="$pid" -f /dev/null &  # ends when the cell's start.sh ends
+  watch_pid=$!
+  trap 'kill "$relay_pid" "$watch_pid" 2>/dev/null || true' EXIT
+  echo "start.sh: http://127.0.0.1:$host_port/ on this host now reaches the bridge" \
+    "(port $port inside the cell's namespace); Ctrl-C stops the forward" >&2
+  wait -n "$relay_pid" "$watch_pid" || rc=$?
+  if ! kill -0 "$pid" 2>/dev/null; then
+    echo "start.sh: the cell stopped; forward closed" >&2
+    exit 0
   fi
-  exec nsenter --target "$pid" --user --net --preserve-credentials -- "$@"
+  echo "start.sh: the forward stopped (socat exit code $rc)" >&2
+  exit 1
 }
 
 case "${1:-}" in
@@ -67,6 +112,9 @@ case "${1:-}" in
       in_cell_ns bash -i
     fi
     in_cell_ns "$@" ;;
+  --forward)
+    [ -r "$port_file" ] && port="$(cat "$port_file")"
+    forward_to_cell "${2:-$port}" ;;
 esac
 
 # ---------------------------------------------------------------- run
@@ -77,7 +125,6 @@ cell_args=()
 # with the reader's own lease). Both default to the runtime's timing
 # (qos::Timing), so the flags are handed to the bridge only when given.
 bridge_timing=()
-usage_error() { echo "start.sh: $*" >&2; usage >&2; exit 2; }
 need_value() { [ $# -ge 2 ] || usage_error "$1 needs a value"; }
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -131,7 +178,8 @@ echo "$port" >"$port_file"
 if [ -x "$bridge" ]; then
   # Same heartbeat as the cell, so the bridge matches the stations' writers
   # and declares a device lost when the stations would.
-  "$bridge" --domain-ids "$domain" --port "$port" "${bridge_timing[@]}" \
+  # 127.0.0.1 only, even inside the namespace: --forward reaches it there.
+  "$bridge" --domain-ids "$domain" --server-ip 127.0.0.1 --port "$port" "${bridge_timing[@]}" \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
   # Wait until the agent answers (it also needs no device yet to answer).
@@ -159,6 +207,8 @@ cat <<EOF
    ./scripts/start.sh --query /current               # current values of every data item
    ./scripts/start.sh --query '/sample?count=50'     # the last handshakes as they happened
    ./scripts/start.sh --enter                        # a shell inside: curl, $build/apps/mtc
+   ./scripts/start.sh --forward                      # opt-in: http://127.0.0.1:$port/ on the host
+                                                     # (the live page in a browser; HTTP only)
  Stop with Ctrl-C.
 ================================================================================
 EOF

@@ -8,8 +8,8 @@
 #   -L REGEX / -LE REGEX    only / not the tests whose label matches (cli, dds, ...)
 #   --repeat MODE:N         e.g. until-fail:5
 #   -V, -VV, -N             verbose, extra verbose, list only
-# Environment: MTC_BUILD_DIR (default <repo>/build), MTC_TEST_JOBS (default 2),
-# MTC_WERROR (default ON).
+# Environment: MTC_BUILD_DIR (default <repo>/build), MTC_TEST_JOBS (default 2);
+# the build is scripts/build.sh's (same configuration as ./scripts/start.sh).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
@@ -29,7 +29,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-MTC_WERROR="${MTC_WERROR:-ON}" "$root/scripts/build.sh"
+"$root/scripts/build.sh"
 
 # Stale shared-memory segments of killed participants would confuse SHM
 # transport tests; clear those of earlier runs.

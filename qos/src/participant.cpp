@@ -1,6 +1,7 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 
 #include <mutex>
@@ -21,10 +22,42 @@ namespace {
 // The only address any project participant may bind or send to.
 constexpr const char* kLoopback = "127.0.0.1";
 
+// Discovery reaches the participants of this many participant ids per host
+// and domain (Fast DDS gives each participant of a host the next free id and
+// the unicast discovery port of that id; the default range is 4). A
+// participant whose id lies beyond it still finds every participant below
+// it, which then answer, but two beyond it would not find each other.
+constexpr std::uint32_t kLoopbackPeerIds = 32;
+
 std::shared_ptr<frtps::TransportDescriptorInterface> loopback_udp() {
   auto udp = std::make_shared<frtps::UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.emplace_back(kLoopback);
+  udp->maxInitialPeersRange = kLoopbackPeerIds;
   return udp;
+}
+
+// Discovery without multicast: listening on 127.0.0.1 at the participant's
+// well-known unicast port (port 0 lets Fast DDS compute it from domain and
+// participant id) and announcing to the unicast discovery ports of the
+// first kLoopbackPeerIds participant ids on 127.0.0.1. Setting a metatraffic
+// unicast locator also keeps Fast DDS from opening its default SPDP
+// multicast socket, which it binds to 0.0.0.0 (every interface), so every
+// socket of a loopback participant is bound to 127.0.0.1 (or is SHM).
+void loopback_discovery(fdds::DomainParticipantQos& q) {
+  using eprosima::fastrtps::rtps::IPLocator;
+  using eprosima::fastrtps::rtps::Locator_t;
+  Locator_t loopback;
+  loopback.kind = LOCATOR_KIND_UDPv4;
+  loopback.port = 0;
+  IPLocator::setIPv4(loopback, kLoopback);
+  auto& builtin = q.wire_protocol().builtin;
+  builtin.metatrafficUnicastLocatorList.clear();
+  builtin.metatrafficMulticastLocatorList.clear();
+  builtin.metatrafficUnicastLocatorList.push_back(loopback);
+  builtin.initialPeersList.clear();
+  builtin.initialPeersList.push_back(loopback);
+  // User data only to 127.0.0.1 (and SHM) as well, never to a multicast group.
+  q.wire_protocol().default_multicast_locator_list.clear();
 }
 
 std::shared_ptr<frtps::TransportDescriptorInterface> test_udp(const FaultInjection& faults) {
@@ -73,12 +106,18 @@ fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
       transport.use_builtin_transports = false;
       transport.user_transports.push_back(std::make_shared<frtps::SharedMemTransportDescriptor>());
       transport.user_transports.push_back(loopback_udp());
+      loopback_discovery(q);
       break;
     case Transport::LoopbackUdp:
       transport.use_builtin_transports = false;
       transport.user_transports.push_back(loopback_udp());
+      loopback_discovery(q);
       break;
     case Transport::LoopbackTest:
+      // Fault injection, only ever inside scripts/netns-run.sh: discovery
+      // stays on the SPDP multicast group (routed over lo there). Fast DDS's
+      // test_UDPv4 transport did not discover its peers by unicast initial
+      // peers (tests/qos TestTransport.* timed out, seen with 2.9.1).
       transport.use_builtin_transports = false;
       transport.user_transports.push_back(test_udp(config.faults));
       break;

@@ -266,7 +266,12 @@ TEST(BridgeEndToEnd, TransitionAndLivelinessLossReachCurrent) {
 // its Availability reads UNAVAILABLE on each loss, not only on the first,
 // and AVAILABLE again each time it comes back.
 TEST(BridgeEndToEnd, AvailabilityFollowsEveryLoss) {
-  RunningBridge bridge({"--domain-ids", "82", "--heartbeat-ms", "100"});
+  // The bridge on the device's transport: the fault-injecting test transport
+  // discovers through the SPDP multicast group, which the default loopback
+  // transport no longer listens to. After an outage the device (which kept
+  // hearing the bridge) would announce itself only there, and a loopback
+  // bridge that had dropped it would never see it again.
+  RunningBridge bridge({"--domain-ids", "82", "--heartbeat-ms", "100", "--transport", "test"});
   ASSERT_NE(bridge.port(), 0);
   dds::EquipmentOptions options;
   options.domain_id = 82;

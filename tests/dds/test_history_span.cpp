@@ -46,6 +46,17 @@ TEST(HistorySpan, AnItemThatNeverChangesIsWrittenAgainAsTheOthersMoveOn) {
   robot.add_responder("mh1", Service::MaterialUnload, complete);
   cnc.start();
   robot.start();
+  const auto seen_times = [&](const std::string& key) {
+    std::lock_guard<std::mutex> lock(m);
+    return seen[key].size();
+  };
+  // The observer must have the first write of both items before the others
+  // move on: one that discovers the writers after the rewrite gets only the
+  // newest sample (KEEP_LAST 1) and never sees two. Seen once under load.
+  ASSERT_TRUE(rec.wait([&] {
+    return seen_times("cnc-span/mh1_material_unload_request") >= 1 &&
+           seen_times("robot-span/mh1_material_unload_response") >= 1;
+  }));
   RequestOptions wait;
   wait.wait_for_ready = kTimeout;
   // 2 changes of the request and 2-3 of the response per handshake: 200
@@ -53,10 +64,7 @@ TEST(HistorySpan, AnItemThatNeverChangesIsWrittenAgainAsTheOthersMoveOn) {
   for (int i = 0; i < 200; ++i) {
     ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed) << "handshake " << i;
   }
-  const auto rewritten = [&](const std::string& key) {
-    std::lock_guard<std::mutex> lock(m);
-    return seen[key].size() >= 2;
-  };
+  const auto rewritten = [&](const std::string& key) { return seen_times(key) >= 2; };
   ASSERT_TRUE(rec.wait([&] {
     return rewritten("cnc-span/mh1_material_unload_request") &&
            rewritten("robot-span/mh1_material_unload_response");

@@ -5,6 +5,7 @@
 #include <fastrtps/attributes/ParticipantAttributes.h>
 #include <fastrtps/attributes/PublisherAttributes.h>
 #include <fastrtps/attributes/SubscriberAttributes.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
 
@@ -196,6 +197,15 @@ void expect_loopback_participant(const std::string& profile, bool with_shm) {
   EXPECT_EQ(disc.leaseDuration, code.wire_protocol().builtin.discovery_config.leaseDuration);
   EXPECT_EQ(disc.leaseDuration_announcementperiod,
             code.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod);
+  // Discovery by unicast on 127.0.0.1 only, in the file as in the code.
+  const auto& builtin = code.wire_protocol().builtin;
+  EXPECT_EQ(a.rtps.builtin.initialPeersList, builtin.initialPeersList);
+  EXPECT_EQ(a.rtps.builtin.metatrafficUnicastLocatorList, builtin.metatrafficUnicastLocatorList);
+  EXPECT_TRUE(builtin.metatrafficMulticastLocatorList.empty());
+  EXPECT_TRUE(a.rtps.builtin.metatrafficMulticastLocatorList.empty());
+  ASSERT_EQ(builtin.initialPeersList.size(), 1u);
+  EXPECT_EQ(eprosima::fastrtps::rtps::IPLocator::toIPv4string(*builtin.initialPeersList.begin()),
+            "127.0.0.1");
   EXPECT_FALSE(a.rtps.useBuiltinTransports);
   EXPECT_EQ(a.rtps.useBuiltinTransports, code.transport().use_builtin_transports);
   ASSERT_EQ(a.rtps.userTransports.size(), code.transport().user_transports.size());
@@ -205,6 +215,7 @@ void expect_loopback_participant(const std::string& profile, bool with_shm) {
     if (auto u = std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(t)) {
       ++udp;
       EXPECT_EQ(u->interfaceWhiteList, std::vector<std::string>{"127.0.0.1"});
+      EXPECT_EQ(u->maxInitialPeersRange, 32u);
     } else if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(
                    t)) {
       ++shm;

@@ -11,6 +11,8 @@
 //   72 packet loss            73 watch                  74 list
 //   75 signals                76 fail rate + seed       77 request timeout
 //   78 respond --count        79 watch --duration, responder without --counterpart
+// Second range 130-139 (test_mtc_profiles.cpp): 130 profile 1.3, 131-132
+// INTERFACE_STATE DISABLED, 133 --peer pinning, 134 --peer usage errors.
 #pragma once
 
 #include <gtest/gtest.h>

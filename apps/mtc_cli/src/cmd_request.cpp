@@ -30,6 +30,8 @@ int run_request(const ParsedArgs& args, Context& context) {
       .field("interface", eq.interface_id)
       .field("service", service)
       .field("counterpart", eq.counterpart)
+      .field("profile", eq.profile == core::Profile::V1_3 ? "1.3" : "1.6")
+      .field("interface_state", eq.disabled ? "DISABLED" : "ENABLED")
       .field("domain", eq.common.domain);
   notice.text = "requesting " + service + " from " + eq.counterpart + " on domain " +
                 std::to_string(eq.common.domain);

@@ -51,6 +51,8 @@ int run_respond(const ParsedArgs& args, Context& context) {
       .field("device", eq.device_uuid)
       .field("interface", eq.interface_id)
       .raw_field("services", service_list_json(eq.services))
+      .field("profile", eq.profile == core::Profile::V1_3 ? "1.3" : "1.6")
+      .field("interface_state", eq.disabled ? "DISABLED" : "ENABLED")
       .field("domain", eq.common.domain);
   notice.text = "responding as " + eq.device_uuid + "/" + eq.interface_id + " on domain " +
                 std::to_string(eq.common.domain) + " (Ctrl-C to stop)";

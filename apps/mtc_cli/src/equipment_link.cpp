@@ -65,6 +65,7 @@ struct EquipmentLink::Impl {
   void on_transition(const dds::TransitionEvent& t);
   void on_counterpart_value(const dds::ObservedValue& v);
   void on_link(const dds::LinkEvent& l);
+  void note_interface_state(const dds::ObservedValue& v);
   dds::EquipmentCallbacks callbacks();
   void declare();
 
@@ -72,6 +73,7 @@ struct EquipmentLink::Impl {
   core::Role role;
   EventQueue& events;
   bool lost = false;
+  std::optional<core::InterfaceState> counterpart_interface_state;
   std::unique_ptr<dds::Equipment> equipment;
 };
 
@@ -87,6 +89,10 @@ void EquipmentLink::Impl::on_transition(const dds::TransitionEvent& t) {
 }
 
 void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
+  if (v.kind() == dds::ItemKind::InterfaceState) {
+    note_interface_state(v);
+    return;
+  }
   if (v.kind() != dds::ItemKind::Interaction || !v.service || !v.sub_type || !serves(*v.service)) {
     return;
   }
@@ -103,6 +109,25 @@ void EquipmentLink::Impl::on_counterpart_value(const dds::ObservedValue& v) {
   e.sequence_number = v.sequence_number;
   e.redelivered = v.redelivered;
   e.reception_time_ns = v.reception_time_ns;
+  events.push(std::move(e));
+}
+
+// The counterpart's INTERFACE_STATE, reported when it changes: DISABLED is
+// why its services stay NOT_READY (Part 5), which a user should be told.
+void EquipmentLink::Impl::note_interface_state(const dds::ObservedValue& v) {
+  const auto state = v.state.interface_state();
+  if (!state || state == counterpart_interface_state) {
+    return;
+  }
+  counterpart_interface_state = state;
+  LinkEvent e;
+  e.kind = LinkEvent::Kind::Notice;
+  e.reception_time_ns = v.reception_time_ns;
+  e.detail = "counterpart " + v.device_uuid + " interface " + v.interface_id + " is " +
+             std::string(core::to_string(*state)) +
+             (*state == core::InterfaceState::Disabled
+                  ? " (INTERFACE_STATE DISABLED: all its services NOT_READY)"
+                  : "");
   events.push(std::move(e));
 }
 
@@ -144,6 +169,7 @@ void EquipmentLink::Impl::declare() {
   itf.id = config.interface_id;
   itf.type = config.interface_type;
   itf.counterpart.device_uuid = config.counterpart;
+  itf.counterpart.interface_id = config.counterpart_interface;
   if (config.door_state) {
     itf.publishes_door_state = true;
     itf.initial_door_state = *config.door_state;
@@ -189,6 +215,7 @@ EquipmentLink::EquipmentLink(const EquipmentConfig& config, core::Role role, Eve
   options.timing = config.timing;
   options.transport = to_transport(config);
   options.faults.drop_data_percent = static_cast<std::uint8_t>(config.drop_percent);
+  options.profile = config.profile;
   // The tool has no partial actions to reset: clear every acknowledged FAIL.
   // A --not-ready responder clears FAIL itself, to NOT_READY (the runtime's
   // automatic recovery would make it READY).
@@ -197,6 +224,10 @@ EquipmentLink::EquipmentLink(const EquipmentConfig& config, core::Role role, Eve
   impl_->equipment = std::make_unique<dds::Equipment>(options, impl_->callbacks());
   impl_->declare();
   impl_->equipment->start();
+  if (config.disabled) {
+    impl_->equipment->set_interface_state(config.interface_id, core::InterfaceState::Disabled)
+        .get();
+  }
 }
 
 EquipmentLink::~EquipmentLink() = default;

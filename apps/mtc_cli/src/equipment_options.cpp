@@ -62,6 +62,28 @@ void parse_timing_options(const ParsedArgs& args, qos::Timing& timing) {
   }
 }
 
+// --counterpart UUID and/or --peer UUID/INTERFACE (same uuid when both).
+void parse_counterpart(const ParsedArgs& args, bool counterpart_required, EquipmentConfig& c) {
+  c.counterpart = args.value_or("counterpart", "");
+  if (auto peer = args.value("peer")) {
+    const auto slash = peer->find('/');
+    if (slash == std::string::npos || slash == 0 || slash + 1 == peer->size() ||
+        peer->find('/', slash + 1) != std::string::npos) {
+      throw UsageError("--peer expects UUID/INTERFACE, e.g. machine-1/mh, got '" + *peer + "'");
+    }
+    const std::string uuid = peer->substr(0, slash);
+    if (!c.counterpart.empty() && c.counterpart != uuid) {
+      throw UsageError("--peer " + *peer + " names another device than --counterpart " +
+                       c.counterpart);
+    }
+    c.counterpart = uuid;
+    c.counterpart_interface = peer->substr(slash + 1);
+  }
+  if (counterpart_required && c.counterpart.empty()) {
+    throw UsageError("--counterpart (or --peer) is required");
+  }
+}
+
 }  // namespace
 
 std::vector<core::Service> parse_services(const std::string& text, bool many) {
@@ -146,6 +168,10 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
       {"counterpart", "UUID",
        many_services ? "device uuid of the requester" : "device uuid of the responder (required)",
        many_services ? "any" : ""});
+  spec.options.push_back({"peer", "UUID/INTERFACE",
+                          "the counterpart's device uuid and interface id (instead of "
+                          "--counterpart): pair with exactly that interface",
+                          ""});
   spec.options.push_back({"transport", "KIND",
                           "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, network (every "
                           "interface: a real cell network only)",
@@ -155,7 +181,21 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
   spec.options.push_back({"fail-ack-timeout", "TIME",
                           "leave FAIL without the counterpart's acknowledgement after this long",
                           "2s"});
+  spec.options.push_back({"profile", "VERSION",
+                          "Part 5 edition: 1.6 (also 1.8) or 1.3 (FAIL back to READY on its own, "
+                          "requester READY after a responder FAIL)",
+                          "1.6"});
+  spec.options.push_back({"disabled", "",
+                          "publish INTERFACE_STATE DISABLED: every service of the interface "
+                          "NOT_READY, nothing requested or served",
+                          ""});
   spec.options.push_back({"drop-percent", "P", "test transport: drop P% of sent DATA", "", true});
+}
+
+core::Profile parse_profile(const std::string& text) {
+  if (text == "1.6" || text == "1.8") return core::Profile::V1_6;
+  if (text == "1.3") return core::Profile::V1_3;
+  throw UsageError("--profile expects 1.6, 1.8 or 1.3, got '" + text + "'");
 }
 
 EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_services,
@@ -166,8 +206,7 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
   c.device_uuid = required(args, "device");
   c.interface_id = required(args, "interface");
   c.device_name = args.value_or("name", c.device_uuid);
-  c.counterpart =
-      counterpart_required ? required(args, "counterpart") : args.value_or("counterpart", "");
+  parse_counterpart(args, counterpart_required, c);
   c.interface_type = default_interface_type(c.services.front());
   if (auto t = args.value("interface-type")) {
     auto parsed = core::parse_interface_type(*t);
@@ -182,6 +221,10 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
   if (auto f = args.value("fail-ack-timeout")) {
     c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);
   }
+  if (auto p = args.value("profile")) {
+    c.profile = parse_profile(*p);
+  }
+  c.disabled = args.has("disabled");
   if (auto d = args.value("drop-percent")) {
     c.drop_percent = static_cast<int>(to_int("drop-percent", *d, 0, 100));
   }

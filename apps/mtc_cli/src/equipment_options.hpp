@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "fail_injection.hpp"
+#include "mtc/core/profile.hpp"
 #include "mtc/core/vocabulary.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/timing.hpp"
@@ -25,10 +26,19 @@ struct EquipmentConfig {
   core::InterfaceType interface_type = core::InterfaceType::MaterialHandler;
   std::vector<core::Service> services;
   std::string counterpart;  // device uuid of the other side; may be empty for respond
+  // --peer UUID/INTERFACE: also the counterpart's interface id (empty: the
+  // first of its interfaces that complements ours).
+  std::string counterpart_interface;
   qos::Transport transport = qos::Transport::Loopback;
   qos::Timing timing;    // --heartbeat-ms, --missed-heartbeats
   int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
   std::chrono::milliseconds fail_ack_timeout{2000};
+  // --profile: the edition of Part 5 the machines follow (1.6 also covers 1.8).
+  core::Profile profile = core::Profile::V1_6;
+  // --disabled: publish INTERFACE_STATE DISABLED, which makes every
+  // interaction item of the interface NOT_READY (Part 5: "MUST be set to
+  // NOT_READY"); nothing can be requested or served until it is ENABLED.
+  bool disabled = false;
   // Responder --not-ready: start NOT_READY and clear every FAIL to NOT_READY.
   bool stay_not_ready = false;
   // Responder --door-state / --chuck-state: this equipment controls the door
@@ -55,6 +65,9 @@ struct ObserverSettings {
   qos::Timing timing;  // --heartbeat-ms, --missed-heartbeats
 };
 ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common);
+
+// "1.6" (or "1.8") / "1.3" -> Profile; UsageError otherwise.
+core::Profile parse_profile(const std::string& text);
 
 // "MATERIAL_LOAD" -> Service; "all" or a comma list when many is true.
 std::vector<core::Service> parse_services(const std::string& text, bool many);

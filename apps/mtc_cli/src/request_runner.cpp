@@ -84,6 +84,9 @@ bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
 }
 
 Result RequestRunner::wait_until_ready(TimePoint deadline) {
+  if (config_.equipment.disabled) {
+    return Result::NotReady;  // our own request stays NOT_READY while DISABLED
+  }
   LinkEvent e;
   while (!(own_ == InteractionState::Ready && peer_ == InteractionState::Ready)) {
     if (own_ == InteractionState::Fail) {
@@ -240,7 +243,8 @@ int RequestRunner::run() {
     if (result == Result::Complete) {
       result = handshake(deadline);
     } else if (result == Result::NotReady) {
-      reason = "responder NOT_READY";
+      reason = config_.equipment.disabled ? "this interface is DISABLED (--disabled)"
+                                          : "responder NOT_READY";
     } else if (result == Result::Timeout) {
       reason = "responder not READY within --timeout";
     }

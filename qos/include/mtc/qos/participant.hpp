@@ -3,13 +3,19 @@
 // one). participant_qos.hpp turns a ParticipantConfig into Fast DDS QoS
 // inside qos/ and dds/.
 //
-// Every test, benchmark and demo of this project runs with a loopback-only
-// transport (Transport::Loopback or LoopbackUdp): the builtin transports are
-// switched off and UDPv4 is restricted to 127.0.0.1 (interfaceWhiteList), so
-// a participant can never reach another host even outside the network
-// namespace. Discovery uses the default SPDP multicast group, which
-// scripts/netns-run.sh routes over lo, plus unicast initial peers on
-// 127.0.0.1 so that discovery also works where multicast is not routed.
+// The loopback transports Loopback (the default) and LoopbackUdp confine DDS
+// to the host by configuration, not by a network namespace: the builtin
+// transports are switched off, UDPv4 is restricted to 127.0.0.1
+// (interfaceWhiteList) and discovery uses no multicast: each
+// participant listens for discovery on 127.0.0.1 at its well-known unicast
+// port and announces itself to the unicast ports of the domain's first 32
+// participant ids on 127.0.0.1 (initial peers). Every socket such a
+// participant opens is bound to 127.0.0.1, or is shared memory; this is what
+// lets ./scripts/start.sh run the cell and the bridge on the host
+// (tests/scripts/check_loopback_confinement.sh proves it). LoopbackTest, the
+// fault-injection transport of tests, is UDPv4 on 127.0.0.1 too but
+// discovers through the SPDP multicast group, which only the test namespace
+// (scripts/netns-run.sh) routes over lo.
 #pragma once
 
 #include <array>
@@ -25,7 +31,7 @@
 namespace mtc::qos {
 
 enum class Transport : std::uint8_t {
-  Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest)
+  Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest): default
   LoopbackUdp,   // UDPv4 on 127.0.0.1 only
   LoopbackTest,  // Fast DDS test_UDPv4 transport on 127.0.0.1: fault injection
   Network,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
