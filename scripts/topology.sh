@@ -81,7 +81,15 @@ cmd_teardown() {
   [ -f "$dir/nodes" ] || return 0
   while read -r name; do
     if pid=$(cat "$dir/$name.pid" 2>/dev/null); then
-      kill "$pid" 2>/dev/null || true
+      # Whatever still runs in the node (a test that lost track of a child)
+      # goes with it: every process there was started through `exec`.
+      local ns p
+      ns=$(readlink "/proc/$pid/ns/net" 2>/dev/null) || ns=""
+      for p in /proc/[0-9]*; do
+        if [ -n "$ns" ] && [ "$(readlink "$p/ns/net" 2>/dev/null)" = "$ns" ]; then
+          kill -KILL "${p#/proc/}" 2>/dev/null || true
+        fi
+      done
     fi
     ip link del "mh-$name" 2>/dev/null || true
     rm -f "$dir/$name.pid"
