@@ -13,14 +13,16 @@
 #      back in and both recover to READY with no restart, a second handshake
 #      completes, and a /sample?interval stream sees every request transition
 #      in order with no gap in sequence numbers.
-# Usage: multihost_cell.sh PARTY MTC BRIDGE SCHEMA_DIR DOMAIN
+# Usage: multihost_cell.sh discovery|cable-pull PARTY MTC BRIDGE SCHEMA_DIR DOMAIN
+#   discovery: parts 1 and 2; cable-pull: part 3.
 # Must run in a fresh loopback-only sandbox (the CMake entry clears
 # MTC_IN_NETNS and goes through scripts/netns-run.sh).
 set -uo pipefail
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 case "${1:-}" in -h | --help) usage; exit 0 ;; esac
-[ $# -eq 5 ] || { echo "multihost_cell.sh: 5 arguments expected" >&2; usage >&2; exit 2; }
-party=$1 mtc=$2 bridge=$3 schemas=$4 domain=$5
+[ $# -eq 6 ] || { echo "multihost_cell.sh: 6 arguments expected" >&2; usage >&2; exit 2; }
+case "$1" in discovery | cable-pull) ;; *) echo "multihost_cell.sh: unknown mode '$1'" >&2; usage >&2; exit 2 ;; esac
+mode=$1 party=$2 mtc=$3 bridge=$4 schemas=$5 domain=$6
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 topo="$here/../../scripts/topology.sh"
 port=5077
@@ -95,6 +97,7 @@ handshakes_and_documents() {  # PHASE [ENV...]
   echo "$phase: 3 handshakes completed across hosts; bridge lists both devices; schemas valid"
 }
 
+if [ "$mode" = discovery ]; then
 # --- 1. default discovery -----------------------------------------------------
 start_bridge "$work/bridge-default.log"
 handshakes_and_documents default
@@ -112,7 +115,8 @@ start_bridge "$work/bridge-server.log" "${server_env[@]}"
 handshakes_and_documents server "${server_env[@]}"
 stop "$bridge_pid"
 stop "$server_pid"
-for n in robot machine bridge; do on "$n" ip route add 224.0.0.0/4 dev eth0 || fail "route not restored"; done
+exit 0
+fi
 
 # --- 3. cable pull at each step ------------------------------------------------
 start_bridge "$work/bridge-pull.log"
@@ -154,9 +158,8 @@ for step in 1 2 3 4 5 6 7 8; do
     [ "$SECONDS" -lt "$deadline" ] || fail "step $step: bridge never showed robot-1 UNAVAILABLE"
     sleep 0.1
   done
-  # A pull shorter than the participant lease (2 s) can leave one side's
-  # participant matched and the other's dropped; keep the cable out until
-  # both have dropped each other (see docs/multihost.md, "Short pulls").
+  # Out for the participant lease (2 s) + 1 s, so every pull takes the same
+  # path: both sides drop each other's participant and rediscover it.
   while [ $((($(date +%s%N) - cut) / 1000000)) -lt $((participant_lease_ms + 1000)) ]; do sleep 0.1; done
   "$topo" link "$work/topo" robot up || fail "link up"
   timeout 45 tail --pid="$machine" -f /dev/null || fail "step $step: requester still running after 45 s"
