@@ -58,6 +58,9 @@ bg_on() {
 wait_for_line() {  # wait_for_line FILE REGEX SECONDS
   timeout "$3" grep -m1 -qE "$2" <(tail -n +1 -f "$1") 2>/dev/null
 }
+# A line to a party through its FIFO; fails instead of blocking for good when
+# no one reads it (a party that died or never reached its wait).
+tell() { timeout 10 bash -c 'echo "$2" >"$1"' tell "$1" "$2"; }
 get() { on bridge curl -sS --max-time 5 "http://127.0.0.1:$port$1"; }
 stop() { kill -TERM "$1" 2>/dev/null; timeout 15 tail --pid="$1" -f /dev/null || kill -KILL "$1"; wait "$1" 2>/dev/null; }
 
@@ -142,11 +145,11 @@ for step in 1 2 3 4 5 6 7 8; do
     [ "$SECONDS" -lt "$deadline" ] || fail "step $step: bridge never saw both devices READY: $current"
     sleep 0.1
   done
-  echo begin >"$fifo"
+  tell "$fifo" begin || fail "step $step: requester did not read BEGIN"
   wait_for_line "$work/pull$step-$holder.log" "^WAIT HOLD $step " 40 || fail "step $step: no hold"
   cut=$(date +%s%N)
   "$topo" link "$work/topo" robot down || fail "link down"
-  echo go >"$fifo"
+  tell "$fifo" go || fail "step $step: holder did not read GO"
   faults=$((faults + 1))
   wait_for_line "$rlog" "^STATE FAIL " 15 || fail "step $step: robot never FAIL"
   wait_for_line "$mlog" "^STATE FAIL " 15 || fail "step $step: machine never FAIL"

@@ -108,6 +108,7 @@ dds::EquipmentCallbacks callbacks(Watch& watch, Hold& hold, bool requester) {
     watch.cv.notify_all();
     if (requester && e.step.notice == mtc::core::Notice::Completed) hold.at(6);
   };
+  cb.on_diagnostic = [](const std::string& text) { say("DIAG " + text); };
   cb.on_link = [&watch](const dds::LinkEvent& e) {
     const auto silence = std::chrono::duration_cast<std::chrono::milliseconds>(e.silence);
     say(std::string("LINK ") + std::string(dds::to_string(e.current)) + " " +
