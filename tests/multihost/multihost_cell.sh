@@ -55,8 +55,9 @@ bg_on() {
   last_pid=$!
   pids+=("$last_pid")
 }
+# -F: a party started in the background may not have made its log yet.
 wait_for_line() {  # wait_for_line FILE REGEX SECONDS
-  timeout "$3" grep -m1 -qE "$2" <(tail -n +1 -f "$1") 2>/dev/null
+  timeout "$3" grep -m1 -qE "$2" <(tail -n +1 -F "$1" 2>/dev/null)
 }
 # A line to a party through its FIFO; fails instead of blocking for good when
 # no one reads it (a party that died or never reached its wait).
@@ -132,11 +133,14 @@ line_time() { grep -m1 -E "$2" "$1" | awk '{print $NF}'; }
 for step in 1 2 3 4 5 6 7 8; do
   case $step in 2 | 3 | 4 | 7) robot_hold=$step machine_hold=0 holder=robot ;;
     *) robot_hold=0 machine_hold=$step holder=machine ;; esac
-  fifo="$work/go-$step" && mkfifo "$fifo"
+  # One FIFO per party: a reader that opens a FIFO shared with the other
+  # party can meet the close of a write meant for that one.
+  rfifo="$work/go-$step-robot" mfifo="$work/go-$step-machine" && mkfifo "$rfifo" "$mfifo"
+  fifo="$work/go-$step-$holder"
   rlog="$work/pull$step-robot.log" mlog="$work/pull$step-machine.log"
-  bg_on "$rlog" robot "$party" responder "$domain" robot-1 machine-1 "$robot_hold" "$fifo"
+  bg_on "$rlog" robot "$party" responder "$domain" robot-1 machine-1 "$robot_hold" "$rfifo"
   robot=$last_pid
-  bg_on "$mlog" machine "$party" requester "$domain" machine-1 robot-1 "$machine_hold" "$fifo"
+  bg_on "$mlog" machine "$party" requester "$domain" machine-1 robot-1 "$machine_hold" "$mfifo"
   machine=$last_pid
   wait_for_line "$mlog" "^WAIT BEGIN " 40 || fail "step $step: requester never paired"
   deadline=$((SECONDS + 20))
@@ -145,7 +149,7 @@ for step in 1 2 3 4 5 6 7 8; do
     [ "$SECONDS" -lt "$deadline" ] || fail "step $step: bridge never saw both devices READY: $current"
     sleep 0.1
   done
-  tell "$fifo" begin || fail "step $step: requester did not read BEGIN"
+  tell "$mfifo" begin || fail "step $step: requester did not read BEGIN"
   wait_for_line "$work/pull$step-$holder.log" "^WAIT HOLD $step " 40 || fail "step $step: no hold"
   cut=$(date +%s%N)
   "$topo" link "$work/topo" robot down || fail "link down"
@@ -153,6 +157,9 @@ for step in 1 2 3 4 5 6 7 8; do
   faults=$((faults + 1))
   wait_for_line "$rlog" "^STATE FAIL " 15 || fail "step $step: robot never FAIL"
   wait_for_line "$mlog" "^STATE FAIL " 15 || fail "step $step: machine never FAIL"
+  # The hold must have ended after the cut, or the step crossed before it.
+  [ "$(line_time "$work/pull$step-$holder.log" "^GO $step ")" -ge "$cut" ] ||
+    fail "step $step: the $holder went on before the cable was pulled"
   robot_ms=$(ms_between "$cut" "$(line_time "$rlog" '^STATE FAIL ')")
   machine_ms=$(ms_between "$cut" "$(line_time "$mlog" '^STATE FAIL ')")
   # The bridge (its own host, still connected to the machine) sees the robot go.

@@ -10,9 +10,10 @@
 //   6 requester, back at READY (step 6 written) (step 6 may not cross)
 //   7 responder, request READY received        (steps 7-8 happen while cut off)
 //   8 requester, response READY received       (handshake over, idle cut)
-// At its hold point it prints "WAIT HOLD <n>" and reads one line from GO_FIFO
-// before going on; the requester also waits for a line ("WAIT BEGIN") once
-// paired, before its first handshake. Every line it prints carries CLOCK_REALTIME ns.
+// At its hold point it prints "WAIT HOLD <n>" and waits for the line "go" on
+// GO_FIFO before going on; the requester also waits for "begin" ("WAIT
+// BEGIN") once paired, before its first handshake. Every line it prints
+// carries CLOCK_REALTIME ns.
 // The requester runs one handshake, waits for FAIL and then READY with the
 // link up, runs a second handshake and exits 0 if that one completes. The
 // responder serves until SIGINT/SIGTERM.
@@ -56,17 +57,28 @@ void say(const std::string& line) {
 class Hold {
  public:
   Hold(int point, std::string fifo) : point_(point), fifo_(std::move(fifo)) {}
-  // One line from the FIFO: the test's "go on".
-  void wait_for_test(const std::string& what) {
+  // The line `word` from the FIFO: the test's "go on". Opening blocks until
+  // the test opens it for writing; an open that meets the close of an
+  // earlier writer reads end-of-file at once, so read until the word comes
+  // (an empty read once let a hold go before the cable was pulled).
+  void wait_for_test(const std::string& what, const std::string& word) {
     say("WAIT " + what);
-    std::ifstream go(fifo_);  // blocks until the test opens it for writing
-    std::string line;
-    std::getline(go, line);
+    for (;;) {
+      std::ifstream go(fifo_);
+      if (!go.is_open()) {
+        say("NO_FIFO " + fifo_);  // the test is gone: go on rather than spin
+        return;
+      }
+      std::string line;
+      while (std::getline(go, line)) {
+        if (line == word) return;
+      }
+    }
   }
   void at(int point) {
     if (point != point_ || done_) return;
     done_ = true;
-    wait_for_test("HOLD " + std::to_string(point));
+    wait_for_test("HOLD " + std::to_string(point), "go");
     say("GO " + std::to_string(point));
   }
 
@@ -151,7 +163,7 @@ int run_requester(dds::Equipment& eq, Watch& watch, Hold& hold) {
   }
   // The test lets us begin once the bridge knows both devices, so that its
   // stream holds every transition of this run.
-  hold.wait_for_test("BEGIN");
+  hold.wait_for_test("BEGIN", "begin");
   hold.at(1);
   const auto first = load.request(wait).get();
   say(std::string("RESULT1 ") + std::string(dds::to_string(first.outcome)));
@@ -192,7 +204,7 @@ int run_responder(dds::Equipment& eq, Hold& hold) {
 int usage(std::ostream& out, int code) {
   out << "usage: mtc-test-step-party requester|responder DOMAIN DEVICE COUNTERPART HOLD GO_FIFO\n"
          "  One side of MATERIAL_LOAD over the Network transport, holding at Table 1\n"
-         "  point HOLD (1-8, 0 = none) until a line is read from GO_FIFO.\n";
+         "  point HOLD (1-8, 0 = none) until the line \"go\" is read from GO_FIFO.\n";
   return code;
 }
 
