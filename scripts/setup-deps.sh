@@ -14,7 +14,7 @@ esac
 
 PACKAGES=(
   build-essential cmake pkg-config
-  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # DDS, codegen, shm clean
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # DDS, codegen, shm clean, discovery server
   libpugixml-dev                                           # XML in the bridge
   libboost-dev                                             # Boost.Beast/Asio HTTP (header-only)
   libgtest-dev libgmock-dev libbenchmark-dev               # tests and benchmarks

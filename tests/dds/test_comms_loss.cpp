@@ -3,6 +3,8 @@
 // one participant's traffic (outage) or drops a share of DATA submessages.
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "equipment_fixture.hpp"
 #include "mtc/dds/domain_observer.hpp"
 
@@ -162,6 +164,44 @@ TEST_F(CommsLoss, LongOutageRediscoversAndRecovers) {
   ASSERT_TRUE(robot_rec.wait_notice(core::Notice::TimedOut, Reason::FailAckTimeout));
   EXPECT_EQ(req.state(), InteractionState::Fail);  // no recovery while the link is down
   cut->store(false);
+  ASSERT_TRUE(cnc_rec.wait_state(req, InteractionState::Ready)) << cnc_rec.dump();
+  ASSERT_TRUE(robot_rec.wait_state(resp, InteractionState::Ready)) << robot_rec.dump();
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  EXPECT_EQ(req.request(wait).get().outcome, Outcome::Completed);
+}
+
+// A one-way outage (only the robot's sending cut) longer than the participant
+// lease: the cnc drops the robot's participant, the robot keeps the cnc's
+// (it still hears it). When the robot is heard again the cnc rediscovers it
+// and asks for all of its endpoint announcements, which Fast DDS 2.9.1 does
+// not send again (the robot's discovery writers hold them as acknowledged
+// by the cnc already). The same state arises from a two-way cable pull when
+// one side's participant lease expires and the other's has not yet (the
+// multihost cable pull). Both sides must still come back to READY.
+TEST_F(CommsLoss, OneWayOutageBeyondParticipantLeaseRecovers) {
+  auto robot_cut = std::make_shared<std::atomic<bool>>(false);
+  Recorder cnc_rec;
+  Recorder robot_rec;
+  Equipment cnc(lossy(49, "cnc-11"), cnc_rec.callbacks());
+  Equipment robot(lossy(49, "robot-11", robot_cut), robot_rec.callbacks());
+  cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-11", "mh1"}});
+  robot.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"cnc-11", "mh1"}});
+  auto& req = cnc.add_requester("mh1", core::Service::MaterialChange);
+  ResponderCallbacks cb;
+  cb.on_request = [](Responder& r) { r.complete(); };
+  auto& resp = robot.add_responder("mh1", core::Service::MaterialChange, cb);
+  cnc.start();
+  robot.start();
+  ASSERT_TRUE(cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Ready; }));
+  ASSERT_TRUE(robot_rec.wait([&] { return resp.counterpart_state() == InteractionState::Ready; }));
+  robot_cut->store(true);
+  ASSERT_TRUE(cnc_rec.wait_state(req, InteractionState::Fail));
+  ASSERT_TRUE(robot_rec.wait_state(resp, InteractionState::Fail));
+  // The fault itself: out for twice the participant lease after the cnc's
+  // FAIL, so that the cnc has dropped the robot's participant for certain.
+  std::this_thread::sleep_for(2 * qos::Timing{}.participant_lease);
+  robot_cut->store(false);
   ASSERT_TRUE(cnc_rec.wait_state(req, InteractionState::Ready)) << cnc_rec.dump();
   ASSERT_TRUE(robot_rec.wait_state(resp, InteractionState::Ready)) << robot_rec.dump();
   RequestOptions wait;
