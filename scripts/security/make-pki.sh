@@ -30,6 +30,7 @@
 # the CA, as DDS-Security requires). Exit code 2 on bad usage or a bad cell
 # description.
 set -euo pipefail
+set -f  # lists are split on commas below; `reads=*` must stay a '*'
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 usage_error() { echo "make-pki.sh: $*" >&2; usage >&2; exit 2; }
 need_value() { [ $# -ge 2 ] && [ -n "$2" ] || usage_error "$1 needs a value"; }
@@ -84,7 +85,10 @@ while IFS= read -r line || [ -n "$line" ]; do
         case "$w" in
           requests=*) req="${w#requests=}"; check_services "$req" ;;
           provides=*) prov="${w#provides=}"; check_services "$prov" ;;
-          reads=*) rd="${w#reads=}" ;;
+          reads=*) rd="${w#reads=}"
+            for r in ${rd//,/ }; do
+              [ "$r" = "*" ] || [[ "$r" =~ $id_re ]] || bad_cell "reads= takes device uuids or *, not '$r'"
+            done ;;
           publishes=*) pub="${w#publishes=}"
             for p in ${pub//,/ }; do
               [ "$p" = door ] || [ "$p" = chuck ] || bad_cell "publishes= takes door,chuck, not '$p'"
