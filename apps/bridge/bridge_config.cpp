@@ -179,6 +179,14 @@ void set_transport(BridgeConfig& c, std::string_view v, const std::string& origi
   c.observer.transport = *transport;
 }
 
+// Checked here so that a bad directory is told with the origin of the
+// setting, before any DDS entity exists.
+void set_security_dir(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  const std::string dir(v);
+  if (auto problem = qos::check_security_dir(dir)) fail(origin, *problem);
+  c.observer.security_dir = dir;
+}
+
 void set_stream_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
   c.agent.stream_heartbeat = parse_ms(v, 10, 3600000, origin, "StreamHeartbeatMs");
 }
@@ -242,7 +250,7 @@ void set_shdr_ip(BridgeConfig& c, std::string_view v, const std::string& origin)
   c.shdr_enabled = true;
 }
 
-const std::array<Setting, 25> kSettings{{
+const std::array<Setting, 26> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -276,6 +284,10 @@ const std::array<Setting, 25> kSettings{{
     {"Transport", "--transport", "DDS transport: loopback, loopback-udp, test or network",
      set_transport,
      [](const BridgeConfig& c) { return std::string(qos::to_string(c.observer.transport)); }},
+    {"SecurityDir", "--security",
+     "DDS-Security identity directory, read-only (scripts/security/make-pki.sh; default: "
+     "unsecured)",
+     set_security_dir},
     {"StreamHeartbeatMs", "--stream-heartbeat-ms",
      "HTTP stream heartbeat when a request names none", set_stream_heartbeat,
      [](const BridgeConfig& c) { return show_ms(c.agent.stream_heartbeat); }},

@@ -322,6 +322,11 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
     throw ConfigError("DomainObserver: domain id " + std::to_string(options.domain_id) +
                       " outside 0.." + std::to_string(qos::kMaxDomainId));
   }
+  if (!options.security_dir.empty()) {
+    if (auto problem = qos::check_security_dir(options.security_dir)) {
+      throw ConfigError("DomainObserver: " + *problem);
+    }
+  }
   auto* impl = impl_.get();
   impl->executor.start([impl] { return impl->next_silence_check(); },
                        [impl](detail::Executor::Clock::time_point) { impl->check_silence(); });
@@ -329,8 +334,9 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   pc.name = "mtc-observer";
   pc.transport = options.transport;
   pc.timing = options.timing;
+  pc.security_dir = options.security_dir;
   detail::deliver_through_transports();
-  impl->participant = std::make_unique<Participant>(options.domain_id, qos::participant_qos(pc));
+  impl->participant = std::make_unique<Participant>(options.domain_id, detail::checked_qos(pc));
   impl->topics = std::make_unique<detail::TopicSet>(*impl->participant, options.timing);
   detail::TapConfig tc;
   tc.partitions = {"*"};

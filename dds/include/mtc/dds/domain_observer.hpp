@@ -66,6 +66,9 @@ struct DomainObserverOptions {
   std::vector<std::string> device_filter;
   // Transport of the observer's participant (loopback only by default).
   qos::Transport transport = qos::Transport::Loopback;
+  // DDS-Security identity of the observer (a read-only one from
+  // scripts/security/make-pki.sh); empty: unsecured.
+  std::string security_dir;
   // The observer requests this liveliness lease from every heartbeat writer;
   // it must be at least the longest lease of the observed devices (a device
   // with a longer lease does not match, which the observer reports on
