@@ -187,6 +187,20 @@ void set_security_dir(BridgeConfig& c, std::string_view v, const std::string& or
   c.observer.security_dir = dir;
 }
 
+void set_max_announced(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.agent.max_announced_devices =
+      parse_int<std::size_t>(v, 1, 1000000, origin, "MaxAnnouncedDevices");
+}
+
+// Read when the server starts (HttpServer names a file it cannot use).
+void set_tls_certificate(BridgeConfig& c, std::string_view v, const std::string&) {
+  c.server.tls_certificate_file = std::string(v);
+}
+
+void set_tls_private_key(BridgeConfig& c, std::string_view v, const std::string&) {
+  c.server.tls_private_key_file = std::string(v);
+}
+
 void set_stream_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
   c.agent.stream_heartbeat = parse_ms(v, 10, 3600000, origin, "StreamHeartbeatMs");
 }
@@ -250,7 +264,7 @@ void set_shdr_ip(BridgeConfig& c, std::string_view v, const std::string& origin)
   c.shdr_enabled = true;
 }
 
-const std::array<Setting, 26> kSettings{{
+const std::array<Setting, 29> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -284,6 +298,14 @@ const std::array<Setting, 26> kSettings{{
     {"Transport", "--transport", "DDS transport: loopback, loopback-udp, test or network",
      set_transport,
      [](const BridgeConfig& c) { return std::string(qos::to_string(c.observer.transport)); }},
+    {"TlsCertificateChain", "--tls-certificate",
+     "HTTPS: PEM certificate chain (with TlsPrivateKey; default: plain HTTP)", set_tls_certificate},
+    {"TlsPrivateKey", "--tls-private-key", "HTTPS: PEM private key of the certificate",
+     set_tls_private_key},
+    {"MaxAnnouncedDevices", "--max-announced-devices",
+     "devices accepted from DDS announcements; a new one beyond takes a departed one's place",
+     set_max_announced,
+     [](const BridgeConfig& c) { return std::to_string(c.agent.max_announced_devices); }},
     {"SecurityDir", "--security",
      "DDS-Security identity directory, read-only (scripts/security/make-pki.sh; default: "
      "unsecured)",

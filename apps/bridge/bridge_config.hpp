@@ -22,10 +22,11 @@
 namespace mtc::bridge {
 
 struct BridgeConfig {
-  // Devices, BufferSize (2^n observations), SchemaVersion, Sender,
+  // Devices, BufferSize (2^n observations), SchemaVersion, Sender, MaxAnnouncedDevices,
   // StreamHeartbeatMs, MaxDocumentBytes, PathMaxVisits.
   AgentOptions agent;
-  // ServerIp, Port, IoThreads (WorkerThreads), MaxConnections,
+  // ServerIp, Port, IoThreads (WorkerThreads), TlsCertificateChain,
+  // TlsPrivateKey, MaxConnections,
   // MaxConnectionsPerClient, MaxPendingBytes, HeaderTimeoutMs,
   // IdleTimeoutMs, WriteTimeoutMs.
   ServerOptions server;
