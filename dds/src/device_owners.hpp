@@ -4,10 +4,11 @@
 // The participant whose announcement (mtc/DeviceDescription) was accepted
 // owns the device's uuid. While the owner is alive, another participant's
 // announcement, value or heartbeat for that uuid is an ownership conflict:
-// reported once per (device, participant) and ignored. Once the owner is
-// lost (its heartbeats stopped for a lease) or gone (its announcement went
-// away), the newest announcer takes over: that is how a device restarted
-// under the same uuid becomes its newest incarnation. A writer's handle is
+// reported once per device, participant and kind (announcement or not) and
+// ignored. Once the owner is lost (its heartbeats stopped for a lease) or
+// gone (its announcement went away), the newest announcer takes over: that
+// is how a device restarted under the same uuid becomes its newest
+// incarnation. A writer's handle is
 // its GUID: the first 12 bytes name its participant.
 //
 // Values of a device nobody announced yet are accepted (peers of other
@@ -77,9 +78,11 @@ class DeviceOwners {
   }
 
   // True the first time a conflict of this participant on this device is
-  // seen, so that a rogue writing every heartbeat is reported once.
-  bool first_conflict(const std::string& device, const Handle& writer) {
-    return reported_.emplace(device, participant_of(writer)).second;
+  // seen, so that a rogue writing every heartbeat is reported once; an
+  // announcement apart from values and heartbeats, so that neither hides
+  // the other.
+  bool first_conflict(const std::string& device, const Handle& writer, Said said) {
+    return reported_.emplace(device, participant_of(writer), said == Said::Announcement).second;
   }
 
   // Keeps the latest refused announcement of a device and the latest
@@ -176,7 +179,7 @@ class DeviceOwners {
   std::map<std::string, Owner> owners_;
   std::map<std::string, DeviceEvent> held_;
   std::map<std::string, std::map<ValueKey, HeldValue>> held_values_;
-  std::set<std::pair<std::string, ParticipantKey>> reported_;
+  std::set<std::tuple<std::string, ParticipantKey, bool>> reported_;
 };
 
 // The words of an ownership conflict report.

@@ -84,7 +84,7 @@ struct DomainObserver::Impl {
   // detail::DeviceOwners); anything else is reported once and ignored.
   bool owned_by_writer(const std::string& device, const Handle& writer, detail::Said said) {
     if (owners.check(device, writer, said)) return true;
-    if (owners.first_conflict(device, writer)) {
+    if (owners.first_conflict(device, writer, said)) {
       const auto report = detail::ownership_conflict(owners, device, writer, said);
       if (callbacks.on_ownership_conflict) {
         callbacks.on_ownership_conflict(device, report);

@@ -112,7 +112,7 @@ bool complements(const EquipmentImpl& impl, const InterfaceSlot& itf,
 bool EquipmentImpl::owned_by_writer(const std::string& device, const detail::Handle& writer,
                                     detail::Said said) {
   if (owners.check(device, writer, said)) return true;
-  if (owners.first_conflict(device, writer)) {
+  if (owners.first_conflict(device, writer, said)) {
     diagnostic(detail::ownership_conflict(owners, device, writer, said));
   }
   return false;

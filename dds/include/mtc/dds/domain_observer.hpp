@@ -55,8 +55,8 @@ struct DomainObserverCallbacks {
   std::function<void(const ObservedHeartbeat&)> on_heartbeat;
   // Without DDS-Security: a participant other than the device's live owner
   // (the one whose announcement was accepted) wrote an announcement, a value
-  // or a heartbeat for it (reported once per device and participant); the
-  // sample was ignored, or held until the owner is lost (see
+  // or a heartbeat for it (reported once per device, participant and kind);
+  // the sample was ignored, or held until the owner is lost (see
   // docs/security.md). Unset: the report goes to stderr.
   std::function<void(const std::string& device_uuid, const std::string& report)>
       on_ownership_conflict;
