@@ -246,13 +246,18 @@ void AgentImpl::add_device(const core::ObservedDevice& announced) {
     before = buffer_.next_sequence();
     departed_.erase(std::remove(departed_.begin(), departed_.end(), device.device_uuid),
                     departed_.end());
-    auto it = std::find_if(announced_.begin(), announced_.end(),
-                           [&](const auto& d) { return d.device_uuid == device.device_uuid; });
+    auto find = [&] {
+      return std::find_if(announced_.begin(), announced_.end(),
+                          [&](const auto& d) { return d.device_uuid == device.device_uuid; });
+    };
+    auto it = find();
+    // Making room erases from announced_: find again after it.
     if (it == announced_.end() && !make_room_for_announcement()) {
       warning = "announcement of " + device.device_uuid +
                 " refused: " + std::to_string(options_.max_announced_devices) +
                 " devices announced already (MaxAnnouncedDevices)";
     } else {
+      it = find();
       const bool changed = it == announced_.end() || !same_device(*it, device);
       if (it == announced_.end()) {
         announced_.push_back(device);
