@@ -154,6 +154,26 @@ while [ $# -gt 0 ]; do
   esac
 done
 
+# --secure: a test CA for this machine only, made once and reused after
+# (identities are remade when the cell description is newer than them), and
+# the bridge's HTTPS certificate, self-signed for 127.0.0.1 (its own CA).
+# Made before entering the namespace, or inside when already in one.
+if [ "$secure" = 1 ]; then
+  if [ ! -r "$pki/ca/ca.pem" ]; then
+    "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" --out "$pki"
+  elif [ "$root/scripts/security/cell.txt" -nt "$pki/cell-machine/permissions.p7s" ]; then
+    "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" \
+      --out "$pki" --ca "$pki/ca"
+  fi
+  if [ ! -r "$pki/https/cert.pem" ]; then
+    mkdir -p "$pki/https"
+    openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 365 \
+      -keyout "$pki/https/key.pem" -out "$pki/https/cert.pem" -subj "/CN=127.0.0.1" \
+      -addext "subjectAltName=IP:127.0.0.1" 2>/dev/null
+    chmod 600 "$pki/https/key.pem"
+  fi
+fi
+
 if [ "${MTC_IN_NETNS:-}" != "1" ]; then
   if [ "$build_first" = 1 ]; then
     "$root/scripts/build.sh"
@@ -161,25 +181,7 @@ if [ "${MTC_IN_NETNS:-}" != "1" ]; then
   # SHM segments of a cell killed earlier would only confuse the new one.
   fastdds shm clean >/dev/null 2>&1 || true
   secure_args=()
-  if [ "$secure" = 1 ]; then
-    # A test CA for this machine only: made once, reused after (identities
-    # are remade when the cell description is newer than them).
-    if [ ! -r "$pki/ca/ca.pem" ]; then
-      "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" --out "$pki"
-    elif [ "$root/scripts/security/cell.txt" -nt "$pki/cell-machine/permissions.p7s" ]; then
-      "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" \
-        --out "$pki" --ca "$pki/ca"
-    fi
-    # The bridge's HTTPS certificate, self-signed for 127.0.0.1 (its own CA).
-    if [ ! -r "$pki/https/cert.pem" ]; then
-      mkdir -p "$pki/https"
-      openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 365 \
-        -keyout "$pki/https/key.pem" -out "$pki/https/cert.pem" -subj "/CN=127.0.0.1" \
-        -addext "subjectAltName=IP:127.0.0.1" 2>/dev/null
-      chmod 600 "$pki/https/key.pem"
-    fi
-    secure_args=(--secure)
-  fi
+  [ "$secure" = 1 ] && secure_args=(--secure)
   exec "$root/scripts/netns-run.sh" "$0" --inner --no-build --port "$port" --domain "$domain" \
     "${secure_args[@]}" "${cell_args[@]}"
 fi
