@@ -5,6 +5,10 @@
 // bridge's view does not change).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <memory>
 #include <mutex>
 
 #include "../dds/equipment_fixture.hpp"
@@ -129,6 +133,120 @@ TEST(Ownership, ObserverKeepsTheDeviceOfTheParticipantThatAnnouncedItFirst) {
   const auto devices = observer.devices();
   ASSERT_EQ(devices.size(), 1u);
   EXPECT_EQ(devices[0].name, "real");
+}
+
+// Domain 137: a device restarted under the same uuid while its old process
+// still has a participant. The new one's announcement is a conflict while
+// the old owner is alive; once the old one's heartbeats stop (its executor
+// hangs: the watchdog withholds them) it takes over, and what it wrote
+// while refused (its announcement, its values: written once) is replayed,
+// to the observer and to the counterpart, whose link comes back up.
+TEST(Ownership, ARestartedDeviceTakesOverOnceTheOldOwnerIsLost) {
+  std::mutex m;
+  std::condition_variable cv;
+  std::vector<std::string> reports;
+  std::vector<std::string> names;  // announcements of own-robot-3, in order
+  int values_after_takeover = 0;
+  DomainObserverCallbacks ocb;
+  ocb.on_device = [&](const ObservedDevice& d) {
+    std::lock_guard<std::mutex> lock(m);
+    if (d.device_uuid == "own-robot-3") names.push_back(d.name);
+    cv.notify_all();
+  };
+  ocb.on_value = [&](const ObservedValue& v) {
+    std::lock_guard<std::mutex> lock(m);
+    if (v.device_uuid == "own-robot-3" && !names.empty() && names.back() == "new") {
+      ++values_after_takeover;
+    }
+    cv.notify_all();
+  };
+  ocb.on_ownership_conflict = [&](const std::string&, const std::string& report) {
+    std::lock_guard<std::mutex> lock(m);
+    reports.push_back(report);
+    cv.notify_all();
+  };
+  DomainObserverOptions oo;
+  oo.domain_id = 137;
+  DomainObserver observer(oo, ocb);
+
+  // Whether the cnc lost the old robot: noted from the callback, since a
+  // Recorder::wait predicate runs under the recorder's lock (links() would
+  // take it again and deadlock).
+  Recorder cnc_rec;
+  std::atomic<bool> cnc_lost_old{false};
+  auto cnc_cb = cnc_rec.callbacks();
+  cnc_cb.on_link = [&cnc_lost_old, record = cnc_cb.on_link](const LinkEvent& e) {
+    if (e.current == LinkState::Lost) cnc_lost_old = true;
+    record(e);
+  };
+  Equipment cnc(options(137, "own-cnc-3"), cnc_cb);
+  cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"own-robot-3", "mh1"}});
+  cnc.add_requester("mh1", core::Service::MaterialLoad);
+  cnc.start();
+
+  const auto robot = [](const char* name) {
+    auto o = options(137, "own-robot-3");
+    o.device_name = name;
+    auto e = std::make_unique<Equipment>(o);
+    e->add_interface({"mh1", InterfaceType::MaterialHandler, "", {"own-cnc-3", "mh1"}});
+    e->add_responder("mh1", core::Service::MaterialLoad, ResponderCallbacks{});
+    e->start();
+    return e;
+  };
+  auto old_robot = robot("old");
+  ASSERT_TRUE(cnc_rec.wait_link(cnc, "mh1", LinkState::Up)) << cnc_rec.dump();
+  {
+    std::unique_lock<std::mutex> lock(m);
+    ASSERT_TRUE(cv.wait_for(lock, kTimeout, [&] { return !names.empty(); }));
+  }
+  auto new_robot = robot("new");
+  {
+    std::unique_lock<std::mutex> lock(m);
+    ASSERT_TRUE(cv.wait_for(lock, kTimeout, [&] {
+      return std::any_of(reports.begin(), reports.end(), [](auto& r) {
+        return contains(r, "an announcement for device own-robot-3");
+      });
+    })) << ::testing::PrintToString(reports);
+    EXPECT_EQ(names, std::vector<std::string>{"old"});
+  }
+  EXPECT_EQ(observer.devices().at(0).name, "old");
+  EXPECT_EQ(cnc.link_state("mh1"), LinkState::Up);
+
+  // The old process hangs: its heartbeats stop, its participant stays.
+  struct Gate {
+    std::mutex m;
+    std::condition_variable cv;
+    bool open = false;
+    void release() {
+      {
+        std::lock_guard<std::mutex> lock(m);
+        open = true;
+      }
+      cv.notify_all();
+    }
+  };
+  auto gate = std::make_shared<Gate>();
+  struct ReleaseOnExit {
+    std::shared_ptr<Gate> gate;
+    ~ReleaseOnExit() { gate->release(); }
+  } release_on_exit{gate};
+  old_robot->post([gate] {
+    std::unique_lock<std::mutex> lock(gate->m);
+    gate->cv.wait(lock, [&] { return gate->open; });
+  });
+  {
+    std::unique_lock<std::mutex> lock(m);
+    ASSERT_TRUE(cv.wait_for(
+        lock, kTimeout,
+        [&] { return !names.empty() && names.back() == "new" && values_after_takeover > 0; }))
+        << ::testing::PrintToString(names) << " values after: " << values_after_takeover;
+  }
+  EXPECT_EQ(observer.devices().at(0).name, "new");
+  // The counterpart lost the old one and pairs on with the new one, whose
+  // values it had refused.
+  EXPECT_TRUE(cnc_rec.wait([&] {
+    return cnc_lost_old.load() && cnc.link_state("mh1") == LinkState::Up;
+  })) << cnc_rec.dump();
 }
 
 }  // namespace
