@@ -370,6 +370,35 @@ const Setting* find_flag(std::string_view flag) {
   return nullptr;
 }
 
+// True for 127.0.0.0/8, ::1 and ::ffff:127.x.y.z (set_shdr_ip checked the
+// syntax).
+bool is_loopback(const std::string& address) {
+  std::array<unsigned char, 16> bytes{};
+  if (inet_pton(AF_INET, address.c_str(), bytes.data()) == 1) return bytes[0] == 127;
+  if (inet_pton(AF_INET6, address.c_str(), bytes.data()) != 1) return false;
+  static constexpr std::array<unsigned char, 16> kLoopback6{0, 0, 0, 0, 0, 0, 0, 0,
+                                                            0, 0, 0, 0, 0, 0, 0, 1};
+  const bool v4_mapped =
+      std::all_of(bytes.begin(), bytes.begin() + 10, [](auto b) { return b == 0; }) &&
+      bytes[10] == 0xFF && bytes[11] == 0xFF;
+  return bytes == kLoopback6 || (v4_mapped && bytes[12] == 127);
+}
+
+// Settings that are each valid but not together. SHDR is plain TCP (the
+// reference agent reads its adapters that way): a bridge that encrypts its
+// DDS traffic or serves HTTPS would hand the same values out in clear text
+// on any other address, so there the adapter stays on loopback, where only
+// an agent on the same host reads it (docs/security.md).
+void check_combination(const BridgeConfig& c) {
+  const bool secured = !c.observer.security_dir.empty() || !c.server.tls_certificate_file.empty();
+  if (c.shdr_enabled && secured && !is_loopback(c.shdr.bind_address)) {
+    fail("ShdrIp",
+         "the SHDR adapter speaks plain TCP, so a secured bridge (SecurityDir or "
+         "TlsCertificateChain) binds it to a loopback address only, not '" +
+             c.shdr.bind_address + "'");
+  }
+}
+
 }  // namespace
 
 bool is_config_key(std::string_view key) {
@@ -441,6 +470,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   for (const auto& [setting, value] : overrides) {
     apply_config_value(result.config, setting->key, value, setting->flag);
   }
+  check_combination(result.config);
   return result;
 }
 

@@ -81,7 +81,9 @@ struct CommandLine {
 };
 
 // Parses argv: `--config FILE` (or a lone FILE argument) is read first,
-// then every flag overrides it, whatever the order on the line.
+// then every flag overrides it, whatever the order on the line. Settings
+// valid alone but not together are refused last (a secured bridge with its
+// plain-TCP SHDR adapter off loopback: ConfigError naming ShdrIp).
 CommandLine parse_command_line(int argc, const char* const* argv);
 
 // The --help text: every flag with its config key and default.

@@ -317,5 +317,35 @@ TEST_F(CommandLineTest, BadFlagsNameTheFlag) {
   EXPECT_EQ(message_of({"a.cfg", "b.cfg"}), "b.cfg: only one config file may be given");
 }
 
+// SHDR is plain TCP: with DDS-Security or HTTPS configured, the adapter may
+// only listen on loopback, whichever order the settings come in.
+TEST_F(CommandLineTest, ASecuredBridgeKeepsThePlainShdrAdapterOnLoopback) {
+  auto message_of = [](std::vector<const char*> args) -> std::string {
+    try {
+      run(std::move(args));
+    } catch (const ConfigError& error) {
+      return error.what();
+    }
+    return "(no error)";
+  };
+  const std::string refused =
+      "ShdrIp: the SHDR adapter speaks plain TCP, so a secured bridge (SecurityDir or "
+      "TlsCertificateChain) binds it to a loopback address only, not '";
+  EXPECT_EQ(message_of({"--shdr-ip", "0.0.0.0", "--tls-certificate", "c.pem", "--tls-private-key",
+                        "k.pem"}),
+            refused + "0.0.0.0'");
+  EXPECT_EQ(message_of({"--tls-certificate", "c.pem", "--shdr-ip", "::"}), refused + "::'");
+  EXPECT_EQ(message_of({"--tls-certificate", "c.pem", "--shdr-ip", "10.1.2.3"}),
+            refused + "10.1.2.3'");
+  for (const char* loopback : {"127.0.0.1", "127.0.0.2", "::1", "::ffff:127.0.0.1"}) {
+    const auto line = run({"--tls-certificate", "c.pem", "--shdr-ip", loopback});
+    EXPECT_EQ(line.config.shdr.bind_address, loopback);
+  }
+  // Unsecured, any address is the operator's call; the default is loopback.
+  EXPECT_EQ(run({"--shdr-ip", "0.0.0.0"}).config.shdr.bind_address, "0.0.0.0");
+  EXPECT_EQ(run({"--tls-certificate", "c.pem", "--shdr-adapter", "yes"}).config.shdr.bind_address,
+            "127.0.0.1");
+}
+
 }  // namespace
 }  // namespace mtc::bridge
