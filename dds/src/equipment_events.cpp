@@ -334,12 +334,15 @@ bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
 // about a lease.
 void EquipmentImpl::on_deadline_missed(std::size_t group) {
   const auto now = topics::realtime_ns();
+  SilentOwners silent;
   for (auto& itf : interfaces) {
     if (itf->group != group || itf->link.load() != LinkState::Up) continue;
     if (!detail::silent_for_a_lease(itf->last_heard_ns, now, groups[group]->timing)) continue;
     link_lost(*itf, "deadline missed: nothing heard for " +
                         std::to_string((now - itf->last_heard_ns) / 1000000) + " ms");
+    if (itf->cp_group) silent.emplace_back(group, *itf->cp_group);
   }
+  for (const auto& [g, key] : silent) owner_silent(g, key, false);  // see SilentOwners
 }
 
 // The backstop behind the DDS cues: an Up interface whose counterpart has
@@ -369,13 +372,16 @@ SteadyClock::time_point EquipmentImpl::next_silence_check() const {
 
 void EquipmentImpl::check_silence() {
   const auto now = topics::realtime_ns();
+  SilentOwners silent;
   for (auto& itf : interfaces) {
     if (itf->link.load() != LinkState::Up || itf->last_heard_ns == 0) continue;
     const auto silence = std::chrono::nanoseconds(now - itf->last_heard_ns);
     if (silence < backstop_silence(groups[itf->group]->timing)) continue;
     link_lost(*itf, "nothing heard for " + std::to_string(silence.count() / 1000000) +
                         " ms (no DDS loss cue came)");
+    if (itf->cp_group) silent.emplace_back(itf->group, *itf->cp_group);
   }
+  for (const auto& [g, key] : silent) owner_silent(g, key, false);  // see SilentOwners
 }
 
 // Disposal or loss of every writer of an instance: the counterpart said so

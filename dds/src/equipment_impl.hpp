@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "device_owners.hpp"
@@ -258,6 +259,13 @@ struct EquipmentImpl {
   void on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
                                 const char* cause, bool check_silence);
   void owner_silent(std::size_t group, detail::PeerGroupKey key, bool check_silence);
+  // Counterparts lost by silence (timing group, heartbeat group key): they
+  // no longer own their device, whichever check found them, after the links
+  // (a takeover pairs anew). The liveliness cue that would say so is ignored
+  // when early and not repeated, and never comes for a heartbeat writer that
+  // never matched: a restart of a hung device (its participant lives on)
+  // would otherwise be refused for good.
+  using SilentOwners = std::vector<std::pair<std::size_t, detail::PeerGroupKey>>;
   bool recently_heard(std::size_t group, std::int64_t last_ns, const std::string& what);
   void link_lost(InterfaceSlot& itf, const std::string& cause);
   void link_up(InterfaceSlot& itf, const char* cause);
