@@ -4,11 +4,11 @@
 // The participant whose announcement (mtc/DeviceDescription) was accepted
 // owns the device's uuid. While the owner is alive, another participant's
 // announcement, value or heartbeat for that uuid is an ownership conflict:
-// reported once per device, participant and kind (announcement or not) and
-// ignored. Once the owner is lost (its heartbeats stopped for a lease) or
-// gone (its announcement went away), the newest announcer takes over: that
-// is how a device restarted under the same uuid becomes its newest
-// incarnation. A writer's handle is
+// reported once per device, participant and kind (announcement, value,
+// heartbeat) and ignored. Once the owner is lost (its heartbeats stopped for
+// a lease) or gone (its announcement went away), the newest announcer takes
+// over: that is how a device restarted under the same uuid becomes its
+// newest incarnation. A writer's handle is
 // its GUID: the first 12 bytes name its participant.
 //
 // Values of a device nobody announced yet are accepted (peers of other
@@ -78,11 +78,11 @@ class DeviceOwners {
   }
 
   // True the first time a conflict of this participant on this device is
-  // seen, so that a rogue writing every heartbeat is reported once; an
-  // announcement apart from values and heartbeats, so that neither hides
-  // the other.
+  // seen, per kind, so that a rogue writing every heartbeat is reported once
+  // and none of its kinds hides another (its heartbeat, often first, used to
+  // hide its values).
   bool first_conflict(const std::string& device, const Handle& writer, Said said) {
-    return reported_.emplace(device, participant_of(writer), said == Said::Announcement).second;
+    return reported_.emplace(device, participant_of(writer), said).second;
   }
 
   // Keeps the latest refused announcement of a device and the latest
@@ -179,7 +179,7 @@ class DeviceOwners {
   std::map<std::string, Owner> owners_;
   std::map<std::string, DeviceEvent> held_;
   std::map<std::string, std::map<ValueKey, HeldValue>> held_values_;
-  std::set<std::tuple<std::string, ParticipantKey, bool>> reported_;
+  std::set<std::tuple<std::string, ParticipantKey, Said>> reported_;
 };
 
 // The words of an ownership conflict report.
