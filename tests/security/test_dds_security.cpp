@@ -94,11 +94,15 @@ class RawParticipant {
     writer_ = std::make_unique<detail::Writer<idl::InteractionSample>>(
         *publisher_, topic(side), qos::state_topic(test_timing()).writer_qos(), listener_);
   }
-  void make_reader(SubType side, const std::string& partition_uuid) {
+  // `on_data` is called (from a Fast DDS thread, after the samples are
+  // counted) when samples arrive, so a test can wait for them.
+  void make_reader(SubType side, const std::string& partition_uuid,
+                   std::function<void()> on_data = {}) {
+    reader_listener_.on_data = std::move(on_data);
     subscriber_ = std::make_unique<detail::Subscriber>(
         participant_, std::vector<std::string>{topics::device_partition(partition_uuid)});
     reader_ = std::make_unique<detail::Reader>(
-        *subscriber_, topic(side), qos::state_topic(test_timing()).reader_qos(), nullptr);
+        *subscriber_, topic(side), qos::state_topic(test_timing()).reader_qos(), &reader_listener_);
   }
   // Poses as `uuid` with an ACTIVE request for MATERIAL_LOAD on mh1.
   void write_active_request(const std::string& uuid, std::uint32_t seq) {
@@ -124,28 +128,36 @@ class RawParticipant {
     reader_->get().get_subscription_matched_status(st);
     return st.total_count;
   }
-  // Samples received so far (takes what is new).
-  int samples_taken() {
-    idl::InteractionSample s;
-    fdds::SampleInfo info;
-    while (reader_->get().take_next_sample(&s, &info) == ReturnCode::RETCODE_OK) {
-      if (info.valid_data) ++taken_;
-    }
-    return taken_;
-  }
+  // Samples received so far (the reader's listener takes them).
+  int samples_taken() const { return reader_listener_.taken.load(); }
 
  private:
   using ReturnCode = eprosima::fastrtps::types::ReturnCode_t;
   struct QuietListener : fdds::DataWriterListener {};
+  // Takes and counts the samples itself: taking them on the test's thread
+  // under the Recorder's lock, while this callback (under the reader's
+  // lock) waits for the Recorder's lock to notify, deadlocked.
+  struct DataListener : fdds::DataReaderListener {
+    void on_data_available(fdds::DataReader* reader) override {
+      idl::InteractionSample s;
+      fdds::SampleInfo info;
+      while (reader->take_next_sample(&s, &info) == ReturnCode::RETCODE_OK) {
+        if (info.valid_data) ++taken;
+      }
+      if (on_data) on_data();
+    }
+    std::function<void()> on_data;
+    std::atomic<int> taken{0};
+  };
   detail::Participant participant_;
   QuietListener listener_;
+  DataListener reader_listener_;  // outlives reader_
   std::unique_ptr<detail::Topic> request_topic_;
   std::unique_ptr<detail::Topic> response_topic_;
   std::unique_ptr<detail::Publisher> publisher_;
   std::unique_ptr<detail::Writer<idl::InteractionSample>> writer_;
   std::unique_ptr<detail::Subscriber> subscriber_;
   std::unique_ptr<detail::Reader> reader_;
-  int taken_ = 0;
 };
 
 // ------------------------------------------------------------ bad files
@@ -297,19 +309,26 @@ TEST_F(Security, UnauthenticatedParticipantSeesNothingAndMovesNothing) {
   cell.start_and_pair();
   // Reading first (a rogue writer would match a rogue reader: both are
   // unauthenticated). The control and the rogue start together; the
-  // control matches the cnc's request writer and receives its heartbeat.
+  // control matches the cnc's request writer and receives its READY (state
+  // topics carry changes only; a late reader gets the last one), then the
+  // changes of one handshake. The rogue sees none of it.
   {
     RawParticipant control(133, Pki::get().dir("sec-intruder"));
-    control.make_reader(SubType::Request, "sec-cnc");
+    control.make_reader(SubType::Request, "sec-cnc", [&] { cell.cnc_rec.notify(); });
     RawParticipant rogue(133, "");
     rogue.make_reader(SubType::Request, "sec-cnc");
-    ASSERT_TRUE(cell.cnc_rec.wait([&] { return control.samples_taken() >= 5; }));
+    ASSERT_TRUE(cell.cnc_rec.wait([&] { return control.samples_taken() >= 1; }));
+    RequestOptions wait;
+    wait.wait_for_ready = 10s;
+    EXPECT_EQ(cell.load->request(wait).get().outcome, Outcome::Completed) << cell.cnc_rec.dump();
+    ASSERT_TRUE(cell.cnc_rec.wait([&] { return control.samples_taken() >= 3; }));
     EXPECT_EQ(rogue.reader_matches(), 0);
     EXPECT_EQ(rogue.samples_taken(), 0);
   }
   // Then writing: posing as the cnc with an ACTIVE request for a few
   // participant announcement periods (500 ms). There is no event to wait
   // for when nothing must happen: the window is the test.
+  const int requests_before = cell.requests_seen.load();  // the control's handshake
   RawParticipant rogue_writer(133, "");
   rogue_writer.make_writer(SubType::Request, "sec-cnc");
   for (std::uint32_t seq = 1; seq <= 15; ++seq) {
@@ -317,7 +336,7 @@ TEST_F(Security, UnauthenticatedParticipantSeesNothingAndMovesNothing) {
     cell.robot_rec.wait([] { return false; }, std::chrono::milliseconds(200));
   }
   EXPECT_EQ(rogue_writer.writer_matches(), 0);
-  EXPECT_EQ(cell.requests_seen.load(), 0);
+  EXPECT_EQ(cell.requests_seen.load(), requests_before);
   EXPECT_EQ(cell.respond->state(), InteractionState::Ready) << cell.robot_rec.dump();
   EXPECT_EQ(cell.respond->counterpart_state(), InteractionState::Ready) << cell.robot_rec.dump();
 }
