@@ -7,6 +7,7 @@
 #   bridge_http.json     benchmarks/bridge_http/run.sh (one JSON object per line)
 #   dds_latency.json     mtc-bench-dds-latency: raw Fast DDS vs transition vs handshake
 #   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
+#   security.json        mtc-bench-security: start-up and handshake, secured vs unsecured
 #
 # Usage: benchmarks/run.sh [--no-build] [--quick]
 #   --no-build  use the build as it is (default: scripts/build.sh first)
@@ -95,6 +96,14 @@ if [ -x "$bin/mtc-bench-dds-latency" ]; then
   fi
 else
   note "mtc-bench-dds-latency not built, skipped"
+fi
+
+if [ -x "$bin/mtc-bench-security" ]; then
+  security_args=(--out "$out/security.json")
+  [ "$quick" = 1 ] && security_args+=(--starts 3 --handshakes 30)
+  run_one mtc-bench-security "$bin/mtc-bench-security" "${security_args[@]}" >/dev/null
+else
+  note "mtc-bench-security not built, skipped"
 fi
 
 note "results in $out:"

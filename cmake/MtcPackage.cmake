@@ -25,6 +25,8 @@ set(_mtc_package_of_fastcdr "fastcdr")
 set(_mtc_package_of_Threads::Threads "Threads")
 set(_mtc_package_of_pugixml::pugixml "pugixml")
 set(_mtc_package_of_Boost::headers "Boost 1.74")
+set(_mtc_package_of_OpenSSL::Crypto "OpenSSL")
+set(_mtc_package_of_OpenSSL::SSL "OpenSSL")
 
 function(mtc_export_component target component)
   install(TARGETS ${target} EXPORT mtconnect-dds-${component}

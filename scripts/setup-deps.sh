@@ -17,6 +17,7 @@ PACKAGES=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # DDS, codegen, shm clean, discovery server
   libpugixml-dev                                           # XML in the bridge
   libboost-dev                                             # Boost.Beast/Asio HTTP (header-only)
+  libssl-dev openssl                                       # DDS-Security checks, make-pki.sh
   libgtest-dev libgmock-dev libbenchmark-dev               # tests and benchmarks
   libxml2-utils                                            # xmllint schema checks
   iproute2 util-linux                                      # ip, unshare: loopback-only netns

@@ -4,9 +4,12 @@
 # together inside one private, loopback-only network namespace.
 #
 # Usage:
-#   ./scripts/start.sh [--no-build] [--port N] [--domain D] [cell options]
+#   ./scripts/start.sh [--no-build] [--secure] [--port N] [--domain D] [cell options]
 #                                      run the cell and the bridge (Ctrl-C stops both);
-#                                      bridge port default 5000, DDS domain default 110
+#                                      bridge port default 5000, DDS domain default 110;
+#                                      --secure: DDS-Security for every participant, with
+#                                      a test CA made on first use in .pki/ (gitignored;
+#                                      scripts/security/make-pki.sh, scripts/security/cell.txt)
 #   ./scripts/start.sh --query PATH    from another terminal: GET PATH from the running bridge
 #   ./scripts/start.sh --enter [CMD]   from another terminal: a shell (or CMD) inside the namespace
 #   ./scripts/start.sh --forward [PORT]
@@ -34,7 +37,10 @@ build="${MTC_BUILD_DIR:-$root/build}"
 state="${MTC_CELL_STATE_DIR:-$build}"
 pidfile="$state/mtc-cell.netns.pid"  # a process inside the running cell's namespace
 port_file="$state/mtc-cell.port"
+tls_file="$state/mtc-cell.https-ca"  # --secure: the CA --query verifies the bridge with
 domain=110                            # DDS domain of the cell (ids 100-119: cell and benchmarks)
+pki="${MTC_PKI_DIR:-$root/.pki}"      # --secure: the test CA and the cell's identities
+secure=0
 port=5000
 
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
@@ -103,6 +109,10 @@ case "${1:-}" in
     path="${2:-/current}"
     case "$path" in /*) ;; *) path="/$path" ;; esac
     [ -r "$port_file" ] && port="$(cat "$port_file")"
+    if [ -r "$tls_file" ]; then
+      in_cell_ns curl -sS --fail-with-body --max-time 10 --cacert "$(cat "$tls_file")" \
+        "https://127.0.0.1:${port}${path}"
+    fi
     in_cell_ns curl -sS --fail-with-body --max-time 10 "http://127.0.0.1:${port}${path}" ;;
   --enter)
     shift
@@ -130,6 +140,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     -h | --help) usage; exit 0 ;;
     --no-build) build_first=0; shift ;;
+    --secure) secure=1; shift ;;
     --heartbeat-ms | --missed-heartbeats)
       need_value "$@"; bridge_timing+=("$1" "$2"); cell_args+=("$1" "$2"); shift 2 ;;
     --port) need_value "$@"; port="$2"; shift 2 ;;
@@ -143,14 +154,36 @@ while [ $# -gt 0 ]; do
   esac
 done
 
+# --secure: a test CA for this machine only, made once and reused after
+# (identities are remade when the cell description is newer than them), and
+# the bridge's HTTPS certificate, self-signed for 127.0.0.1 (its own CA).
+# Made before entering the namespace, or inside when already in one.
+if [ "$secure" = 1 ]; then
+  if [ ! -r "$pki/ca/ca.pem" ]; then
+    "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" --out "$pki"
+  elif [ "$root/scripts/security/cell.txt" -nt "$pki/cell-machine/permissions.p7s" ]; then
+    "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" \
+      --out "$pki" --ca "$pki/ca"
+  fi
+  if [ ! -r "$pki/https/cert.pem" ]; then
+    mkdir -p "$pki/https"
+    openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 365 \
+      -keyout "$pki/https/key.pem" -out "$pki/https/cert.pem" -subj "/CN=127.0.0.1" \
+      -addext "subjectAltName=IP:127.0.0.1" 2>/dev/null
+    chmod 600 "$pki/https/key.pem"
+  fi
+fi
+
 if [ "${MTC_IN_NETNS:-}" != "1" ]; then
   if [ "$build_first" = 1 ]; then
     "$root/scripts/build.sh"
   fi
   # SHM segments of a cell killed earlier would only confuse the new one.
   fastdds shm clean >/dev/null 2>&1 || true
+  secure_args=()
+  [ "$secure" = 1 ] && secure_args=(--secure)
   exec "$root/scripts/netns-run.sh" "$0" --inner --no-build --port "$port" --domain "$domain" \
-    "${cell_args[@]}"
+    "${secure_args[@]}" "${cell_args[@]}"
 fi
 
 # ------------------------------------------- inside the namespace from here
@@ -159,6 +192,19 @@ bridge="$build/apps/mtc-bridge"
 bridge_log="$build/mtc-bridge.log"
 [ -x "$cell" ] || { echo "start.sh: $cell is not built" >&2; exit 1; }
 
+bridge_security=()
+cell_security=()
+if [ "$secure" = 1 ]; then
+  bridge_security=(--security "$pki/mtc-bridge" --tls-certificate "$pki/https/cert.pem"
+                   --tls-private-key "$pki/https/key.pem")
+  cell_security=(--security "$pki")
+fi
+scheme=http
+curl_tls=()
+if [ "$secure" = 1 ]; then
+  scheme=https
+  curl_tls=(--cacert "$pki/https/cert.pem")
+fi
 bridge_pid=""
 cell_pid=""
 cleanup() {
@@ -169,22 +215,24 @@ cleanup() {
     kill -KILL "$bridge_pid" 2>/dev/null || true
     wait "$bridge_pid" 2>/dev/null || true
   fi
-  rm -f "$pidfile" "$port_file"
+  rm -f "$pidfile" "$port_file" "$tls_file"
 }
 trap cleanup EXIT
 echo $$ >"$pidfile"
 echo "$port" >"$port_file"
+if [ "$secure" = 1 ]; then echo "$pki/https/cert.pem" >"$tls_file"; else rm -f "$tls_file"; fi
 
 if [ -x "$bridge" ]; then
   # Same heartbeat as the cell, so the bridge matches the stations' writers
   # and declares a device lost when the stations would.
   # 127.0.0.1 only, even inside the namespace: --forward reaches it there.
   "$bridge" --domain-ids "$domain" --server-ip 127.0.0.1 --port "$port" "${bridge_timing[@]}" \
+    "${bridge_security[@]}" \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
   # Wait until the agent answers (it also needs no device yet to answer).
   for _ in $(seq 100); do
-    curl -s -o /dev/null --max-time 1 "http://127.0.0.1:$port/probe" && break
+    curl -s -o /dev/null --max-time 1 "${curl_tls[@]}" "$scheme://127.0.0.1:$port/probe" && break
     kill -0 "$bridge_pid" 2>/dev/null || break
     sleep 0.1
   done
@@ -200,8 +248,9 @@ fi
 cat <<EOF
 ================================================================================
  mtconnect-dds simulated cell: machine tool + robot + bar feeder on DDS domain $domain
+ DDS-Security: $([ "$secure" = 1 ] && echo "on (identities in $pki)" || echo "off (--secure turns it on)")
  running in a private loopback-only network namespace (pid $$).
- MTConnect agent (mtc-bridge): http://127.0.0.1:$port/probe  /current  /sample
+ MTConnect agent (mtc-bridge): $scheme://127.0.0.1:$port/probe  /current  /sample
    (log: $bridge_log)
  That address exists only inside the namespace. From another terminal:
    ./scripts/start.sh --query /current               # current values of every data item
@@ -215,7 +264,7 @@ EOF
 
 # The cell runs as a background job so that SIGINT/SIGTERM reach this shell's
 # trap at once; the trap hands them on and the loop waits for a clean exit.
-"$cell" --domain "$domain" "${cell_args[@]}" &
+"$cell" --domain "$domain" "${cell_security[@]}" "${cell_args[@]}" &
 cell_pid=$!
 trap 'kill -TERM "$cell_pid" 2>/dev/null || true' INT TERM
 rc=0

@@ -71,11 +71,15 @@ void BridgeApp::run(std::ostream& log) {
     domains << (i == 0 ? "" : ",") << config_.domain_ids[i];
   }
   const bool v6 = server_->bind_address().find(':') != std::string::npos;
-  log << "mtc-bridge: serving MTConnect " << to_string(agent_->schema_version()) << " on http://"
-      << (v6 ? "[" : "") << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port()
-      << "/ (DDS domains " << domains.str() << "; devices from "
+  log << "mtc-bridge: serving MTConnect " << to_string(agent_->schema_version()) << " on "
+      << (server_->is_https() ? "https://" : "http://") << (v6 ? "[" : "")
+      << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port() << "/ (DDS domains "
+      << domains.str() << "; devices from "
       << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
                                              : config_.agent.devices_file)
+      << (config_.observer.security_dir.empty()
+              ? std::string("; DDS unsecured")
+              : "; DDS-Security identity " + config_.observer.security_dir)
       << ")" << std::endl;
   if (shdr_) {
     const bool shdr_v6 = shdr_->bind_address().find(':') != std::string::npos;

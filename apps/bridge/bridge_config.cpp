@@ -179,6 +179,28 @@ void set_transport(BridgeConfig& c, std::string_view v, const std::string& origi
   c.observer.transport = *transport;
 }
 
+// Checked here so that a bad directory is told with the origin of the
+// setting, before any DDS entity exists.
+void set_security_dir(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  const std::string dir(v);
+  if (auto problem = qos::check_security_dir(dir)) fail(origin, *problem);
+  c.observer.security_dir = dir;
+}
+
+void set_max_announced(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.agent.max_announced_devices =
+      parse_int<std::size_t>(v, 1, 1000000, origin, "MaxAnnouncedDevices");
+}
+
+// Read when the server starts (HttpServer names a file it cannot use).
+void set_tls_certificate(BridgeConfig& c, std::string_view v, const std::string&) {
+  c.server.tls_certificate_file = std::string(v);
+}
+
+void set_tls_private_key(BridgeConfig& c, std::string_view v, const std::string&) {
+  c.server.tls_private_key_file = std::string(v);
+}
+
 void set_stream_heartbeat(BridgeConfig& c, std::string_view v, const std::string& origin) {
   c.agent.stream_heartbeat = parse_ms(v, 10, 3600000, origin, "StreamHeartbeatMs");
 }
@@ -242,7 +264,7 @@ void set_shdr_ip(BridgeConfig& c, std::string_view v, const std::string& origin)
   c.shdr_enabled = true;
 }
 
-const std::array<Setting, 25> kSettings{{
+const std::array<Setting, 29> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -276,6 +298,18 @@ const std::array<Setting, 25> kSettings{{
     {"Transport", "--transport", "DDS transport: loopback, loopback-udp, test or network",
      set_transport,
      [](const BridgeConfig& c) { return std::string(qos::to_string(c.observer.transport)); }},
+    {"TlsCertificateChain", "--tls-certificate",
+     "HTTPS: PEM certificate chain (with TlsPrivateKey; default: plain HTTP)", set_tls_certificate},
+    {"TlsPrivateKey", "--tls-private-key", "HTTPS: PEM private key of the certificate",
+     set_tls_private_key},
+    {"MaxAnnouncedDevices", "--max-announced-devices",
+     "devices accepted from DDS announcements; a new one beyond takes a departed one's place",
+     set_max_announced,
+     [](const BridgeConfig& c) { return std::to_string(c.agent.max_announced_devices); }},
+    {"SecurityDir", "--security",
+     "DDS-Security identity directory, read-only (scripts/security/make-pki.sh; default: "
+     "unsecured)",
+     set_security_dir},
     {"StreamHeartbeatMs", "--stream-heartbeat-ms",
      "HTTP stream heartbeat when a request names none", set_stream_heartbeat,
      [](const BridgeConfig& c) { return show_ms(c.agent.stream_heartbeat); }},
@@ -334,6 +368,35 @@ const Setting* find_flag(std::string_view flag) {
     }
   }
   return nullptr;
+}
+
+// True for 127.0.0.0/8, ::1 and ::ffff:127.x.y.z (set_shdr_ip checked the
+// syntax).
+bool is_loopback(const std::string& address) {
+  std::array<unsigned char, 16> bytes{};
+  if (inet_pton(AF_INET, address.c_str(), bytes.data()) == 1) return bytes[0] == 127;
+  if (inet_pton(AF_INET6, address.c_str(), bytes.data()) != 1) return false;
+  static constexpr std::array<unsigned char, 16> kLoopback6{0, 0, 0, 0, 0, 0, 0, 0,
+                                                            0, 0, 0, 0, 0, 0, 0, 1};
+  const bool v4_mapped =
+      std::all_of(bytes.begin(), bytes.begin() + 10, [](auto b) { return b == 0; }) &&
+      bytes[10] == 0xFF && bytes[11] == 0xFF;
+  return bytes == kLoopback6 || (v4_mapped && bytes[12] == 127);
+}
+
+// Settings that are each valid but not together. SHDR is plain TCP (the
+// reference agent reads its adapters that way): a bridge that encrypts its
+// DDS traffic or serves HTTPS would hand the same values out in clear text
+// on any other address, so there the adapter stays on loopback, where only
+// an agent on the same host reads it (docs/security.md).
+void check_combination(const BridgeConfig& c) {
+  const bool secured = !c.observer.security_dir.empty() || !c.server.tls_certificate_file.empty();
+  if (c.shdr_enabled && secured && !is_loopback(c.shdr.bind_address)) {
+    fail("ShdrIp",
+         "the SHDR adapter speaks plain TCP, so a secured bridge (SecurityDir or "
+         "TlsCertificateChain) binds it to a loopback address only, not '" +
+             c.shdr.bind_address + "'");
+  }
 }
 
 }  // namespace
@@ -407,6 +470,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
   for (const auto& [setting, value] : overrides) {
     apply_config_value(result.config, setting->key, value, setting->flag);
   }
+  check_combination(result.config);
   return result;
 }
 

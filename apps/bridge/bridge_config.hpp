@@ -22,14 +22,15 @@
 namespace mtc::bridge {
 
 struct BridgeConfig {
-  // Devices, BufferSize (2^n observations), SchemaVersion, Sender,
+  // Devices, BufferSize (2^n observations), SchemaVersion, Sender, MaxAnnouncedDevices,
   // StreamHeartbeatMs, MaxDocumentBytes, PathMaxVisits.
   AgentOptions agent;
-  // ServerIp, Port, IoThreads (WorkerThreads), MaxConnections,
+  // ServerIp, Port, IoThreads (WorkerThreads), TlsCertificateChain,
+  // TlsPrivateKey, MaxConnections,
   // MaxConnectionsPerClient, MaxPendingBytes, HeaderTimeoutMs,
   // IdleTimeoutMs, WriteTimeoutMs.
   ServerOptions server;
-  // DeviceFilter, Transport, and in `timing` HeartbeatMs and
+  // DeviceFilter, Transport, SecurityDir, and in `timing` HeartbeatMs and
   // MissedHeartbeats: the DDS heartbeat of the observed devices and how many
   // may be missed; their product is the liveliness lease the observer asks
   // for (it must cover the longest lease of any device). domain_id is set
@@ -80,7 +81,9 @@ struct CommandLine {
 };
 
 // Parses argv: `--config FILE` (or a lone FILE argument) is read first,
-// then every flag overrides it, whatever the order on the line.
+// then every flag overrides it, whatever the order on the line. Settings
+// valid alone but not together are refused last (a secured bridge with its
+// plain-TCP SHDR adapter off loopback: ConfigError naming ShdrIp).
 CommandLine parse_command_line(int argc, const char* const* argv);
 
 // The --help text: every flag with its config key and default.

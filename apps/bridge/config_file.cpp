@@ -49,8 +49,8 @@ constexpr std::string_view kReferenceAgentKeys =
     "JsonVersion LegacyTimeout LogStreams MaxAssets MaxCachedFileSize MinCompressFileSize "
     "MinimumConfigReloadAge MonitorConfigFiles MonitorInterval MqttHost MqttPort MqttTls PidFile "
     "PreserveUUID Pretty ReconnectInterval RelativeTime ServiceName ShdrVersion SuppressIPAddress "
-    "TlsCertificateChain TlsCertificatePassword TlsClientCAs TlsDHKey TlsOnly TlsPrivateKey "
-    "TlsVerifyClientCertificate UpcaseDataItemValue VersionDeviceXmlUpdates";
+    "TlsCertificatePassword TlsClientCAs TlsDHKey TlsOnly TlsVerifyClientCertificate "
+    "UpcaseDataItemValue VersionDeviceXmlUpdates";
 // Its blocks (`Name { ... }`, nested): adapters, sinks, file serving, logging.
 constexpr std::string_view kReferenceAgentBlocks =
     "Adapters Sinks Sources Files Directories logger_config Ruby";

@@ -280,6 +280,7 @@ class EquipmentLink : public Link {
     eo.device_uuid = uuid_of(id);
     eo.device_name = std::string(to_string(id));
     eo.timing = options.timing;
+    eo.security_dir = security_dir_of(id, options);
     equipment_ = std::make_unique<dds::Equipment>(eo, callbacks());
     const Layout l = layout_of(id);
     for (const auto& i : l.interfaces) {
@@ -397,6 +398,11 @@ class EquipmentLink : public Link {
 };
 
 }  // namespace
+
+std::string security_dir_of(StationId id, const CellOptions& options) {
+  if (options.security_dir.empty()) return "";
+  return options.security_dir + "/" + uuid_of(id);
+}
 
 std::unique_ptr<Link> make_equipment_link(StationId id, const CellOptions& options) {
   try {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "cell_plan.hpp"
 #include "ports.hpp"
@@ -13,5 +14,9 @@ namespace mtc::cell {
 // Throws std::runtime_error (with the runtime's message) when the equipment
 // cannot be created.
 std::unique_ptr<Link> make_equipment_link(StationId id, const CellOptions& options);
+
+// The station's DDS-Security identity: <options.security_dir>/<its device
+// uuid>, or "" when the cell runs unsecured.
+std::string security_dir_of(StationId id, const CellOptions& options);
 
 }  // namespace mtc::cell

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "cell_plan.hpp"
+#include "equipment_link.hpp"
+#include "mtc/qos/participant.hpp"
 #include "stations.hpp"
 #include "supervisor.hpp"
 
@@ -32,6 +34,8 @@ void usage(std::ostream& out) {
       << defaults.heartbeat.count() << " x " << defaults.missed_heartbeats << " = "
       << defaults.lease().count()
       << " ms)\n"
+         "  --security DIR   DDS-Security: DIR is the make-pki.sh output for\n"
+         "                   scripts/security/cell.txt; each station uses DIR/<its uuid>\n"
          "  --threads        run the three stations as threads of one process\n"
          "  --local          same, over an in-memory link instead of DDS (no network)\n"
          "  --station NAME   run one station only: machine, robot or feeder\n"
@@ -83,7 +87,9 @@ std::string parse(int argc, char** argv, Parsed& p) {
       p.station = *id;
       continue;
     }
-    if (a == "--cycles" && parse_number(v, 0, 1000000, n)) {
+    if (a == "--security" && !v.empty()) {
+      p.options.security_dir = v;
+    } else if (a == "--cycles" && parse_number(v, 0, 1000000, n)) {
       p.options.cycles = static_cast<int>(n);
     } else if (a == "--duration" && parse_number(v, 0, 86400L * 365, n)) {
       p.options.duration_s = static_cast<int>(n);
@@ -134,6 +140,16 @@ int main(int argc, char** argv) {
     std::cerr << "mtc-cell: " << error << "\n";
     usage(std::cerr);
     return 2;
+  }
+  if (!p.options.security_dir.empty()) {
+    for (auto id : {mtc::cell::StationId::Machine, mtc::cell::StationId::Robot,
+                    mtc::cell::StationId::Feeder}) {
+      const auto dir = mtc::cell::security_dir_of(id, p.options);
+      if (auto problem = mtc::qos::check_security_dir(dir)) {
+        std::cerr << "mtc-cell: --security: " << *problem << "\n";
+        return 2;
+      }
+    }
   }
   switch (p.mode) {
     case Mode::Station:

@@ -33,6 +33,10 @@ struct CellOptions {
   // counts as lost (scenario 6): the runtime's default unless --heartbeat-ms /
   // --missed-heartbeats say otherwise. The bridge must use the same lease.
   qos::Timing timing;
+  // DDS-Security: a scripts/security/make-pki.sh output directory for
+  // scripts/security/cell.txt; each station uses <security_dir>/<its uuid>.
+  // Empty: unsecured.
+  std::string security_dir;
 };
 
 // Stop request shared by a station's threads; its sleeps wake on stop().

@@ -6,6 +6,8 @@
 #   test_cell.sh dds    <mtc-cell> <domain>        3 processes over DDS, bounded run
 #   test_cell.sh sigint <mtc-cell> <domain>        Ctrl-C stops every station, exit 0
 #   test_cell.sh start  <build-dir> <domain> <port> scripts/start.sh: bridge serves the cell
+#   test_cell.sh secure <build-dir> <domain> <port> the same with --secure: DDS-Security (a
+#                                                   fresh test CA) and the bridge over HTTPS
 # Runs inside the loopback-only namespace (the CMake entry wraps it in
 # scripts/netns-run.sh, which is a no-op when ctest already runs inside one).
 set -uo pipefail
@@ -15,7 +17,7 @@ case "$mode" in
   -h | --help) usage; exit 0 ;;
   local | chuck) arguments=2 ;;
   dds | sigint) arguments=3 ;;
-  start) arguments=4 ;;
+  start | secure) arguments=4 ;;
   *) echo "test_cell.sh: unknown mode or option '$mode'" >&2; usage >&2; exit 2 ;;
 esac
 if [ $# -ne "$arguments" ]; then
@@ -118,10 +120,15 @@ case "$mode" in
     done
     expect "stop requested: stopping every station" "the stop being handed to the stations"
     expect "all stations stopped, exit code 0" "every station stopped" ;;
-  start)
+  start | secure)
     build="$2" domain="$3" port="$4"
     state="$(mktemp -d)"
-    MTC_BUILD_DIR="$build" MTC_CELL_STATE_DIR="$state" "$root/scripts/start.sh" --no-build --domain "$domain" --port "$port" \
+    secure=() scheme=http tls=()
+    if [ "$mode" = secure ]; then
+      secure=(--secure) scheme=https tls=(--cacert "$state/pki/https/cert.pem")
+    fi
+    MTC_BUILD_DIR="$build" MTC_CELL_STATE_DIR="$state" MTC_PKI_DIR="$state/pki" \
+      "$root/scripts/start.sh" --no-build "${secure[@]}" --domain "$domain" --port "$port" \
       --pace-ms 10 >"$log" 2>&1 &
     pid=$!
     timeout 60 grep -m1 -q "cycle 1 complete" <(tail -n +1 -f "$log") ||
@@ -135,14 +142,20 @@ case "$mode" in
     current="" deadline=$((SECONDS + 30))
     until has_all; do
       [ "$SECONDS" -lt "$deadline" ] || break
-      current="$(curl -sS --max-time 10 "http://127.0.0.1:$port/current")" ||
+      current="$(curl -sS --max-time 10 "${tls[@]}" "$scheme://127.0.0.1:$port/current")" ||
         { kill -TERM "$pid"; fail "bridge did not answer /current"; }
       has_all || sleep 0.2
     done
+    if [ "$mode" = secure ]; then
+      expect "DDS-Security: on" "start.sh announcing DDS-Security"
+      curl -s --max-time 5 -o /dev/null "http://127.0.0.1:$port/current" &&
+        { kill -TERM "$pid"; fail "the secured bridge answered plain HTTP"; }
+    fi
     kill -TERM "$pid"
     rc=0
     wait "$pid" || rc=$?
     [ -e "$state/mtc-cell.netns.pid" ] && fail "start.sh left its pid file behind"
+    rm -rf "$state/pki"
     rmdir "$state"
     [ "$rc" = 0 ] || fail "start.sh exit code $rc after SIGTERM"
     for needle in "${needles[@]}"; do

@@ -58,6 +58,13 @@ class AgentImpl final : public MtconnectAgent {
   // --- ingest (caller holds data_ exclusively) ---
   bool append_if_changed(std::uint32_t slot, const std::string& value, std::int64_t time_ns);
   void rebuild_model();
+  // Room for one more announced device: true when below the limit or a
+  // departed device was dropped to make it. Holds data_.
+  bool make_room_for_announcement();
+  // The file device an announcement maps onto (by uuid, or by name when
+  // unclaimed); a warning when it claims one another announcement holds.
+  std::optional<std::size_t> file_device_of(const core::ObservedDevice& device,
+                                            std::string& warning);
   void mark_unobserved_unavailable(std::int64_t time_ns);
   void set_available(std::size_t device, std::int64_t time_ns);
   void notify(std::size_t appended);
@@ -106,6 +113,7 @@ class AgentImpl final : public MtconnectAgent {
   SlotRegistry slots_;
   ObservationBuffer buffer_;
   std::vector<core::ObservedDevice> announced_;
+  std::vector<std::string> departed_;  // announced devices lost, oldest first
   // Announcement models: latest value of items not (yet) in the model,
   // applied when an announcement brings them.
   std::map<std::pair<std::string, std::string>, core::ObservedValue> pending_;

@@ -1,6 +1,8 @@
 // AgentImpl: construction, ingest from the DDS observer, stream waiting.
+#include <algorithm>
 #include <chrono>
 #include <new>
+#include <optional>
 #include <stdexcept>
 
 #include "agent_impl.hpp"
@@ -199,32 +201,78 @@ std::optional<std::size_t> AgentImpl::resolve_value(const core::ObservedValue& v
   return model_.resolve_item(uuid, value.data_item_id, hint);
 }
 
+bool AgentImpl::make_room_for_announcement() {
+  if (announced_.size() < options_.max_announced_devices) return true;
+  if (departed_.empty()) return false;
+  const std::string gone = departed_.front();
+  departed_.erase(departed_.begin());
+  announced_.erase(std::remove_if(announced_.begin(), announced_.end(),
+                                  [&](const auto& d) { return d.device_uuid == gone; }),
+                   announced_.end());
+  if (!from_file_) rebuild_model();
+  return true;
+}
+
+std::optional<std::size_t> AgentImpl::file_device_of(const core::ObservedDevice& device,
+                                                     std::string& warning) {
+  if (auto d = model_.find_device_by_uuid(model_uuid(device.device_uuid))) return d;
+  if (device.name.empty()) return std::nullopt;
+  // The file names the device but knows another uuid: map by name, unless
+  // the device of that name is already spoken for (its own uuid announced,
+  // or another announcement mapped onto it): a second claim is a hijack.
+  const auto d = model_.find_device(device.name);
+  if (!d) return std::nullopt;
+  const std::string& file_uuid = model_.devices()[*d].uuid;
+  const bool claimed = std::any_of(announced_.begin(), announced_.end(),
+                                   [&](const auto& a) { return a.device_uuid == file_uuid; }) ||
+                       std::any_of(uuid_aliases_.begin(), uuid_aliases_.end(),
+                                   [&](const auto& alias) { return alias.second == file_uuid; });
+  if (claimed) {
+    warning = "announcement of " + device.device_uuid + " names device " + device.name + " of " +
+              options_.devices_file + ", which another announcement holds: ignored";
+    return std::nullopt;
+  }
+  uuid_aliases_[device.device_uuid] = file_uuid;
+  return d;
+}
+
 void AgentImpl::add_device(const core::ObservedDevice& announced) {
   const core::ObservedDevice device = xml_safe(announced);
   std::size_t before = 0;
   std::size_t after = 0;
+  std::string warning;
   {
     std::unique_lock lock(data_);
     before = buffer_.next_sequence();
-    auto it = std::find_if(announced_.begin(), announced_.end(),
-                           [&](const auto& d) { return d.device_uuid == device.device_uuid; });
-    const bool changed = it == announced_.end() || !same_device(*it, device);
-    if (it == announced_.end()) {
-      announced_.push_back(device);
-    } else if (changed) {
-      *it = device;
+    departed_.erase(std::remove(departed_.begin(), departed_.end(), device.device_uuid),
+                    departed_.end());
+    auto find = [&] {
+      return std::find_if(announced_.begin(), announced_.end(),
+                          [&](const auto& d) { return d.device_uuid == device.device_uuid; });
+    };
+    auto it = find();
+    // Making room erases from announced_: find again after it.
+    if (it == announced_.end() && !make_room_for_announcement()) {
+      warning = "announcement of " + device.device_uuid +
+                " refused: " + std::to_string(options_.max_announced_devices) +
+                " devices announced already (MaxAnnouncedDevices)";
+    } else {
+      it = find();
+      const bool changed = it == announced_.end() || !same_device(*it, device);
+      if (it == announced_.end()) {
+        announced_.push_back(device);
+      } else if (changed) {
+        *it = device;
+      }
+      if (changed && !from_file_) rebuild_model();
+      auto d = from_file_ ? file_device_of(device, warning)
+                          : model_.find_device_by_uuid(device.device_uuid);
+      if (d && from_file_ && changed) resolve_announced(device);
+      if (d) set_available(*d, now_ns());
     }
-    if (changed && !from_file_) rebuild_model();
-    auto d = model_.find_device_by_uuid(device.device_uuid);
-    if (!d && from_file_ && !device.name.empty()) {
-      // The file names the device but knows another uuid: map by name.
-      d = model_.find_device(device.name);
-      if (d) uuid_aliases_[device.device_uuid] = model_.devices()[*d].uuid;
-    }
-    if (d && from_file_ && changed) resolve_announced(device);
-    if (d) set_available(*d, now_ns());
     after = buffer_.next_sequence();
   }
+  if (!warning.empty() && options_.on_warning) options_.on_warning(warning);
   notify(after - before);
 }
 
@@ -308,6 +356,12 @@ void AgentImpl::device_lost(const std::string& received_uuid) {
   {
     std::unique_lock lock(data_);
     const std::uint64_t before = buffer_.next_sequence();
+    const bool announced = std::any_of(announced_.begin(), announced_.end(),
+                                       [&](const auto& d) { return d.device_uuid == device_uuid; });
+    if (announced &&
+        std::find(departed_.begin(), departed_.end(), device_uuid) == departed_.end()) {
+      departed_.push_back(device_uuid);
+    }
     const auto device = model_.find_device_by_uuid(model_uuid(device_uuid));
     if (device) {
       const std::int64_t t = now_ns();

@@ -8,6 +8,7 @@
 #include <set>
 #include <vector>
 
+#include "device_owners.hpp"
 #include "domain_tap.hpp"
 #include "executor.hpp"
 #include "mtc/dds/detail/entities.hpp"
@@ -63,6 +64,7 @@ struct DomainObserver::Impl {
   // (restarted under the same uuid; its participant outlives it by up to a
   // participant lease) must not turn the current one's items UNAVAILABLE.
   std::map<std::string, detail::ParticipantKey> incarnation;
+  detail::DeviceOwners owners;  // who speaks for each device (no DDS-Security)
 
   mutable std::mutex devices_mutex;
   std::map<std::string, ObservedDevice> devices;
@@ -78,9 +80,28 @@ struct DomainObserver::Impl {
     return f.empty() || std::find(f.begin(), f.end(), device) != f.end();
   }
 
+  // The participant that announced a device speaks for it (see
+  // detail::DeviceOwners); anything else is reported once and ignored.
+  bool owned_by_writer(const std::string& device, const Handle& writer, detail::Said said) {
+    if (owners.check(device, writer, said)) return true;
+    if (owners.first_conflict(device, writer, said)) {
+      const auto report = detail::ownership_conflict(owners, device, writer, said);
+      if (callbacks.on_ownership_conflict) {
+        callbacks.on_ownership_conflict(device, report);
+      } else {
+        std::cerr << "mtc::dds::DomainObserver: " << report << "\n";
+      }
+    }
+    return false;
+  }
+
   void handle(detail::ValueEvent& e) {
     const auto& v = e.value;
     if (!wanted(v.device_uuid)) return;
+    if (!owned_by_writer(v.device_uuid, e.writer, detail::Said::Value)) {
+      owners.hold(0, e);
+      return;
+    }
     auto& w = writers[e.writer];
     w.device = v.device_uuid;
     w.items.insert(v.data_item_id);
@@ -95,6 +116,10 @@ struct DomainObserver::Impl {
   void handle(detail::DeviceEvent& e) {
     const auto& d = e.device;
     if (!wanted(d.device_uuid)) return;
+    if (!owned_by_writer(d.device_uuid, e.writer, detail::Said::Announcement)) {
+      owners.hold(e);
+      return;
+    }
     auto& w = writers[e.writer];
     w.device = d.device_uuid;
     w.description = true;
@@ -106,6 +131,8 @@ struct DomainObserver::Impl {
       devices[d.device_uuid] = d;
     }
     if (callbacks.on_device) callbacks.on_device(d);
+    // What it wrote before it took the device over.
+    for (auto& held : owners.take_values(d.device_uuid, e.writer)) handle(held.event);
   }
 
   // A heartbeat: its group is alive. A group that was lost gets its last
@@ -114,6 +141,7 @@ struct DomainObserver::Impl {
   void handle(detail::HeartbeatEvent& e) {
     const auto& h = e.heartbeat;
     if (!wanted(h.device_uuid)) return;
+    if (!owned_by_writer(h.device_uuid, e.writer, detail::Said::Heartbeat)) return;
     auto& group = peer_groups.on_heartbeat(e.writer, h);
     heartbeat_instances[e.instance] = {h.device_uuid, h.group};
     incarnation[h.device_uuid] = detail::participant_of(e.writer);
@@ -189,6 +217,8 @@ struct DomainObserver::Impl {
   void group_lost(const detail::PeerGroupKey& key) {
     items_lost(key.device, items_of(key.device, key.participant, key.group));
     if (key.group == 0 && current(key.device, key.participant)) device_lost(key.device);
+    // A restarted device's new participant takes over once the old is lost.
+    if (auto held = owners.owner_lost(key.device, key.participant)) handle(*held);
   }
 
   void handle(detail::WriterLivelinessEvent& e) {
@@ -201,8 +231,10 @@ struct DomainObserver::Impl {
     if (it == writers.end() || !e.unmatched) return;
     const auto& device = it->second.device;
     const auto writer_participant = detail::participant_of(e.writer);
+    std::optional<detail::DeviceEvent> held;  // another's, replayed once this is gone
     if (it->second.description) {
       if (current(device, writer_participant)) device_lost(device);
+      held = owners.release_writer(e.writer);
     } else {
       std::set<std::string> items;
       for (const auto& item : items_of(device, writer_participant, std::nullopt)) {
@@ -211,6 +243,7 @@ struct DomainObserver::Impl {
       items_lost(device, items);
     }
     writers.erase(it);
+    if (held) handle(*held);
   }
 
   // A group's lease and heartbeat period: what its heartbeats announce.
@@ -294,7 +327,9 @@ struct DomainObserver::Impl {
     const auto it = instances.find({e.topic, e.instance});
     if (it == instances.end()) return;
     if (e.topic == TopicKind::DeviceDescription) {
-      device_lost(it->second.first);
+      const std::string device = it->second.first;
+      device_lost(device);
+      if (auto held = owners.release_device(device)) handle(*held);
     } else {
       items_lost(it->second.first, {it->second.second});
     }
@@ -322,6 +357,11 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
     throw ConfigError("DomainObserver: domain id " + std::to_string(options.domain_id) +
                       " outside 0.." + std::to_string(qos::kMaxDomainId));
   }
+  if (!options.security_dir.empty()) {
+    if (auto problem = qos::check_security_dir(options.security_dir)) {
+      throw ConfigError("DomainObserver: " + *problem);
+    }
+  }
   auto* impl = impl_.get();
   impl->executor.start([impl] { return impl->next_silence_check(); },
                        [impl](detail::Executor::Clock::time_point) { impl->check_silence(); });
@@ -329,8 +369,9 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   pc.name = "mtc-observer";
   pc.transport = options.transport;
   pc.timing = options.timing;
+  pc.security_dir = options.security_dir;
   detail::deliver_through_transports();
-  impl->participant = std::make_unique<Participant>(options.domain_id, qos::participant_qos(pc));
+  impl->participant = std::make_unique<Participant>(options.domain_id, detail::checked_qos(pc));
   impl->topics = std::make_unique<detail::TopicSet>(*impl->participant, options.timing);
   detail::TapConfig tc;
   tc.partitions = {"*"};

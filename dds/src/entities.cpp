@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "mtc/dds/detail/return_code.hpp"
+#include "mtc/qos/participant_qos.hpp"
 
 namespace mtc::dds::detail {
 
@@ -22,7 +23,22 @@ void report(const ReturnCode& code, const char* what) {
 Participant::Participant(int domain_id, const fdds::DomainParticipantQos& qos) {
   participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
   if (participant_ == nullptr) {
-    throw CreationError("create_participant(domain " + std::to_string(domain_id) + ")");
+    const std::string what = "create_participant(domain " + std::to_string(domain_id) + ")";
+    const std::string security_dir = qos::security_dir_of(qos);
+    if (security_dir.empty()) throw CreationError(what);
+    // The files passed the pre-flight check (qos::check_security_dir), so
+    // Fast DDS disliked their content: its log line above says what.
+    throw CreationError(what + ": Fast DDS refused the DDS-Security files in " + security_dir +
+                        " (a permissions grant for another subject, an invalid governance or "
+                        "permissions document: see the security log above)");
+  }
+}
+
+fdds::DomainParticipantQos checked_qos(const qos::ParticipantConfig& config) {
+  try {
+    return qos::participant_qos(config);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(e.what());
   }
 }
 

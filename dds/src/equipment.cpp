@@ -4,6 +4,7 @@
 
 #include "equipment_impl.hpp"
 #include "mtc/dds/detail/topics.hpp"
+#include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {
@@ -154,6 +155,11 @@ Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
     qos::validate(options.timing);
   } catch (const std::invalid_argument& e) {
     throw ConfigError(std::string("Equipment: ") + e.what());
+  }
+  if (!options.security_dir.empty()) {
+    if (auto problem = qos::check_security_dir(options.security_dir)) {
+      throw ConfigError("Equipment " + options.device_uuid + ": " + *problem);
+    }
   }
   if (options.device_name.empty()) options.device_name = options.device_uuid;
   impl_->options = std::move(options);

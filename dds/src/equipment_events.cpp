@@ -107,9 +107,24 @@ bool complements(const EquipmentImpl& impl, const InterfaceSlot& itf,
 
 }  // namespace
 
+// Without DDS-Security nothing stops a participant from writing another
+// device's uuid: the live owner speaks for it (see detail::DeviceOwners).
+bool EquipmentImpl::owned_by_writer(const std::string& device, const detail::Handle& writer,
+                                    detail::Said said) {
+  if (owners.check(device, writer, said)) return true;
+  if (owners.first_conflict(device, writer, said)) {
+    diagnostic(detail::ownership_conflict(owners, device, writer, said));
+  }
+  return false;
+}
+
 void EquipmentImpl::on_device(detail::DeviceEvent& e) {
   const auto& d = e.device;
   if (d.device_uuid == options.device_uuid) return;
+  if (!owned_by_writer(d.device_uuid, e.writer, detail::Said::Announcement)) {
+    owners.hold(e);
+    return;
+  }
   writer_device[e.writer] = d.device_uuid;
   instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "", 0};
   description_writers.insert(e.writer);
@@ -125,11 +140,17 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
       }
     }
   }
+  // What it wrote before it took the device over.
+  for (auto& held : owners.take_values(d.device_uuid, e.writer)) on_value(held.group, held.event);
 }
 
 void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   auto& v = e.value;
   if (v.device_uuid == options.device_uuid) return;
+  if (!owned_by_writer(v.device_uuid, e.writer, detail::Said::Value)) {
+    owners.hold(group, e);
+    return;
+  }
   writer_device[e.writer] = v.device_uuid;
   instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id, 0};
   writer_interfaces[e.writer].insert(v.interface_id);
@@ -216,6 +237,7 @@ void EquipmentImpl::deliver(InterfaceSlot& itf, const ObservedValue& v, bool mis
 void EquipmentImpl::on_heartbeat(std::size_t group, detail::HeartbeatEvent& e) {
   const auto& h = e.heartbeat;
   if (h.device_uuid == options.device_uuid) return;
+  if (!owned_by_writer(h.device_uuid, e.writer, detail::Said::Heartbeat)) return;
   auto& pg = peer_groups.on_heartbeat(e.writer, h);
   instance_item[{TopicKind::Heartbeat, e.instance}] = {h.device_uuid, "", "", h.group};
   const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
@@ -312,12 +334,15 @@ bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
 // about a lease.
 void EquipmentImpl::on_deadline_missed(std::size_t group) {
   const auto now = topics::realtime_ns();
+  SilentOwners silent;
   for (auto& itf : interfaces) {
     if (itf->group != group || itf->link.load() != LinkState::Up) continue;
     if (!detail::silent_for_a_lease(itf->last_heard_ns, now, groups[group]->timing)) continue;
     link_lost(*itf, "deadline missed: nothing heard for " +
                         std::to_string((now - itf->last_heard_ns) / 1000000) + " ms");
+    if (itf->cp_group) silent.emplace_back(group, *itf->cp_group);
   }
+  for (const auto& [g, key] : silent) owner_silent(g, key, false);  // see SilentOwners
 }
 
 // The backstop behind the DDS cues: an Up interface whose counterpart has
@@ -347,13 +372,16 @@ SteadyClock::time_point EquipmentImpl::next_silence_check() const {
 
 void EquipmentImpl::check_silence() {
   const auto now = topics::realtime_ns();
+  SilentOwners silent;
   for (auto& itf : interfaces) {
     if (itf->link.load() != LinkState::Up || itf->last_heard_ns == 0) continue;
     const auto silence = std::chrono::nanoseconds(now - itf->last_heard_ns);
     if (silence < backstop_silence(groups[itf->group]->timing)) continue;
     link_lost(*itf, "nothing heard for " + std::to_string(silence.count() / 1000000) +
                         " ms (no DDS loss cue came)");
+    if (itf->cp_group) silent.emplace_back(itf->group, *itf->cp_group);
   }
+  for (const auto& [g, key] : silent) owner_silent(g, key, false);  // see SilentOwners
 }
 
 // Disposal or loss of every writer of an instance: the counterpart said so
@@ -364,7 +392,7 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
                             const char* cause) {
   const auto it = instance_item.find({topic, instance});
   if (it == instance_item.end()) return;
-  const auto& owner = it->second;
+  const auto owner = it->second;
   for (auto& itf : interfaces) {
     if (itf->cp_uuid != owner.device) continue;
     // A device announcement concerns every interface; items only their group.
@@ -378,6 +406,9 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
     } else if (owner.interface_id == itf->cp_interface) {
       link_lost(*itf, owner.item + ": " + cause);
     }
+  }
+  if (topic == TopicKind::DeviceDescription) {
+    if (auto held = owners.release_device(owner.device)) on_device(*held);
   }
 }
 
@@ -408,6 +439,11 @@ void EquipmentImpl::on_writer_lost(std::size_t group, const detail::Handle& writ
     if (itf->cp_group && itf->cp_group->participant != writer_participant) continue;
     if (whole_device || fed.count(itf->cp_interface) != 0) link_lost(*itf, cause);
   }
+  // Its announcement is gone for good: one another participant made
+  // meanwhile is replayed once the links are settled.
+  if (whole_device) {
+    if (auto held = owners.release_writer(writer)) on_device(*held);
+  }
 }
 
 // The heartbeat writer of a counterpart group lost its liveliness (checked
@@ -423,6 +459,26 @@ void EquipmentImpl::on_heartbeat_writer_lost(std::size_t group, const detail::Pe
     }
     link_lost(*itf, std::string("heartbeat ") + cause);
   }
+  owner_silent(group, key, check_silence);  // after the links: a takeover pairs anew
+}
+
+// A counterpart's heartbeats stopped for a lease (or its heartbeat writer
+// left): its participant no longer owns the device, and an announcement of
+// the same uuid by another one (a restart) takes over.
+void EquipmentImpl::owner_silent(std::size_t group, detail::PeerGroupKey key, bool check_silence) {
+  if (check_silence) {
+    const auto* pg = peer_groups.find(key);
+    if (pg == nullptr) return;
+    using std::chrono::milliseconds;
+    const auto& timing = groups[group]->timing;
+    const auto& h = pg->newest;
+    const auto lease = h.lease_ms != 0 ? milliseconds(h.lease_ms) : timing.lease();
+    const auto period = h.period_ms != 0 ? milliseconds(h.period_ms) : timing.heartbeat;
+    if (!detail::silent_for_a_lease(pg->last_heartbeat_ns, topics::realtime_ns(), lease, period)) {
+      return;
+    }
+  }
+  if (auto held = owners.owner_lost(key.device, key.participant)) on_device(*held);
 }
 
 void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {

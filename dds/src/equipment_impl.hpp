@@ -11,8 +11,10 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
+#include "device_owners.hpp"
 #include "domain_tap.hpp"
 #include "door_chuck.hpp"
 #include "executor.hpp"
@@ -159,6 +161,7 @@ struct EquipmentImpl {
   };
   std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
   std::set<detail::Handle> description_writers;
+  detail::DeviceOwners owners;  // who announced each counterpart device
   std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
   // Last change number per (timing group whose tap saw it, writer).
   std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
@@ -255,6 +258,14 @@ struct EquipmentImpl {
   void check_silence();
   void on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
                                 const char* cause, bool check_silence);
+  void owner_silent(std::size_t group, detail::PeerGroupKey key, bool check_silence);
+  // Counterparts lost by silence (timing group, heartbeat group key): they
+  // no longer own their device, whichever check found them, after the links
+  // (a takeover pairs anew). The liveliness cue that would say so is ignored
+  // when early and not repeated, and never comes for a heartbeat writer that
+  // never matched: a restart of a hung device (its participant lives on)
+  // would otherwise be refused for good.
+  using SilentOwners = std::vector<std::pair<std::size_t, detail::PeerGroupKey>>;
   bool recently_heard(std::size_t group, std::int64_t last_ns, const std::string& what);
   void link_lost(InterfaceSlot& itf, const std::string& cause);
   void link_up(InterfaceSlot& itf, const char* cause);
@@ -262,6 +273,9 @@ struct EquipmentImpl {
   bool try_bind(InterfaceSlot& itf, const std::string& device, const std::string& interface_id);
   void replay_seen_values(InterfaceSlot& itf);
   void diagnostic(const std::string& text);
+  // False (reported once) when `writer` is not of the participant that
+  // announced `device`; an announcement claims an unowned device.
+  bool owned_by_writer(const std::string& device, const detail::Handle& writer, detail::Said said);
   // Application callbacks must not take the executor down.
   template <typename Fn>
   void guard_callback(const char* what, Fn&& fn) {

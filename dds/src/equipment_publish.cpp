@@ -104,8 +104,9 @@ void EquipmentImpl::create_entities() {
   pc.transport = options.transport;
   pc.faults = options.faults;
   pc.timing = t;
+  pc.security_dir = options.security_dir;
   detail::deliver_through_transports();
-  participant = std::make_unique<Participant>(options.domain_id, qos::participant_qos(pc));
+  participant = std::make_unique<Participant>(options.domain_id, detail::checked_qos(pc));
   topics = std::make_unique<detail::TopicSet>(*participant, t);
   publisher = std::make_unique<Publisher>(
       *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});

@@ -4,6 +4,8 @@
 #include <fastrtps/utils/IPLocator.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 
+#include <climits>
+#include <cstdlib>
 #include <mutex>
 #include <random>
 #include <stdexcept>
@@ -88,12 +90,40 @@ std::shared_ptr<frtps::TransportDescriptorInterface> test_udp(const FaultInjecti
   return udp;
 }
 
+constexpr const char* kIdentityCertificateProperty =
+    "dds.sec.auth.builtin.PKI-DH.identity_certificate";
+
+// Fast DDS takes file URIs; a relative directory would depend on the working
+// directory of whoever reads the error.
+std::string absolute_dir(const std::string& dir) {
+  char resolved[PATH_MAX];
+  return ::realpath(dir.c_str(), resolved) != nullptr ? std::string(resolved) : dir;
+}
+
+void enable_security(fdds::DomainParticipantQos& q, const std::string& dir) {
+  if (auto problem = check_security_dir(dir)) throw std::invalid_argument(*problem);
+  for (auto& [name, value] : security_properties(absolute_dir(dir))) {
+    q.properties().properties().emplace_back(name, value);
+  }
+}
+
 }  // namespace
+
+std::string security_dir_of(const fdds::DomainParticipantQos& qos) {
+  const std::string* certificate = eprosima::fastrtps::rtps::PropertyPolicyHelper::find_property(
+      qos.properties(), kIdentityCertificateProperty);
+  if (certificate == nullptr) return "";
+  const std::string& uri = *certificate;
+  const std::size_t begin = uri.rfind("file://", 0) == 0 ? 7 : 0;
+  const auto end = uri.rfind('/');
+  return end == std::string::npos || end < begin ? uri : uri.substr(begin, end - begin);
+}
 
 fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
   validate(config.timing);
   fdds::DomainParticipantQos q = fdds::PARTICIPANT_QOS_DEFAULT;
   q.name(config.name);
+  if (!config.security_dir.empty()) enable_security(q, config.security_dir);
   auto& discovery = q.wire_protocol().builtin.discovery_config;
   discovery.leaseDuration = to_duration(config.timing.participant_lease);
   discovery.leaseDuration_announcementperiod = to_duration(config.timing.participant_announcement);

@@ -94,7 +94,10 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "MaxConnectionsPerClient = 8\n"
       "MaxPendingBytes = 1048576\n"
       "MaxDocumentBytes = 65536\n"
-      "PathMaxVisits = 50000");
+      "PathMaxVisits = 50000\n"
+      "MaxAnnouncedDevices = 12\n"
+      "TlsCertificateChain = /etc/mtc/cert.pem\n"
+      "TlsPrivateKey = /etc/mtc/key.pem");
   EXPECT_EQ(config.agent.devices_file, "/etc/mtc/Devices.xml");
   EXPECT_EQ(config.server.bind_address, "::1");
   EXPECT_EQ(config.server.port, 5001);
@@ -108,6 +111,9 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
   EXPECT_EQ(config.observer.timing.missed_heartbeats, 4);
   EXPECT_EQ(config.observer.transport, qos::Transport::Network);
   EXPECT_EQ(config.agent.stream_heartbeat, 2000ms);
+  EXPECT_EQ(config.agent.max_announced_devices, 12U);
+  EXPECT_EQ(config.server.tls_certificate_file, "/etc/mtc/cert.pem");
+  EXPECT_EQ(config.server.tls_private_key_file, "/etc/mtc/key.pem");
   EXPECT_EQ(config.server.max_connections, 10U);
   EXPECT_EQ(config.server.header_timeout, 2000ms);
   EXPECT_EQ(config.server.idle_timeout, 3000ms);
@@ -174,6 +180,10 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"MaxPendingBytes = 1000", "agent.cfg:1: MaxPendingBytes must be an integer"},
         Malformed{"PathMaxVisits = 1e6", "agent.cfg:1: PathMaxVisits must be an integer"},
         Malformed{"HeaderTimeoutMs = 10s", "agent.cfg:1: HeaderTimeoutMs"},
+        Malformed{"MaxAnnouncedDevices = 0", "agent.cfg:1: MaxAnnouncedDevices"},
+        // A security directory is checked when read, naming it.
+        Malformed{"SecurityDir = /nonexistent/pki",
+                  "agent.cfg:1: security directory /nonexistent/pki does not exist"},
         Malformed{"Agents {\n  A { Host = x }\n}", "agent.cfg:1: unknown block 'Agents'"},
         Malformed{"Port = 1\nAdapters {\n  A { Host = x }\n",
                   "agent.cfg:2: block 'Adapters' is never closed"},
@@ -305,6 +315,36 @@ TEST_F(CommandLineTest, BadFlagsNameTheFlag) {
   EXPECT_EQ(message_of({"--port", "x"}),
             "--port: Port must be an integer from 0 to 65535, not 'x'");
   EXPECT_EQ(message_of({"a.cfg", "b.cfg"}), "b.cfg: only one config file may be given");
+}
+
+// SHDR is plain TCP: with DDS-Security or HTTPS configured, the adapter may
+// only listen on loopback, whichever order the settings come in.
+TEST_F(CommandLineTest, ASecuredBridgeKeepsThePlainShdrAdapterOnLoopback) {
+  auto message_of = [](std::vector<const char*> args) -> std::string {
+    try {
+      run(std::move(args));
+    } catch (const ConfigError& error) {
+      return error.what();
+    }
+    return "(no error)";
+  };
+  const std::string refused =
+      "ShdrIp: the SHDR adapter speaks plain TCP, so a secured bridge (SecurityDir or "
+      "TlsCertificateChain) binds it to a loopback address only, not '";
+  EXPECT_EQ(message_of({"--shdr-ip", "0.0.0.0", "--tls-certificate", "c.pem", "--tls-private-key",
+                        "k.pem"}),
+            refused + "0.0.0.0'");
+  EXPECT_EQ(message_of({"--tls-certificate", "c.pem", "--shdr-ip", "::"}), refused + "::'");
+  EXPECT_EQ(message_of({"--tls-certificate", "c.pem", "--shdr-ip", "10.1.2.3"}),
+            refused + "10.1.2.3'");
+  for (const char* loopback : {"127.0.0.1", "127.0.0.2", "::1", "::ffff:127.0.0.1"}) {
+    const auto line = run({"--tls-certificate", "c.pem", "--shdr-ip", loopback});
+    EXPECT_EQ(line.config.shdr.bind_address, loopback);
+  }
+  // Unsecured, any address is the operator's call; the default is loopback.
+  EXPECT_EQ(run({"--shdr-ip", "0.0.0.0"}).config.shdr.bind_address, "0.0.0.0");
+  EXPECT_EQ(run({"--tls-certificate", "c.pem", "--shdr-adapter", "yes"}).config.shdr.bind_address,
+            "127.0.0.1");
 }
 
 }  // namespace

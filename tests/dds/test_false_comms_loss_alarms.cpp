@@ -6,7 +6,8 @@
 // docs/endurance.md), leaving stale instances behind. Either way a silent
 // instance of the counterpart device used to fail a healthy link every lease.
 // Only heartbeats carry a DEADLINE now, so the silent instance here is a
-// heartbeat group of the counterpart device that stopped beating.
+// heartbeat instance in the counterpart device's partition that stopped
+// beating.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -31,15 +32,17 @@ namespace {
 
 using core::InterfaceType;
 
-// A second participant of the counterpart device (say a retired tool of it)
-// that heartbeats for a group of its own until told to go silent, then only
-// asserts its liveliness: the writer is alive, that instance is silent for
-// good and misses its deadline every lease.
+// A second participant in the counterpart device's partition (say a retired
+// tool of it) that heartbeats until told to go silent, then only asserts its
+// liveliness: the writer is alive, that instance is silent for good and
+// misses its deadline every lease. It heartbeats under a uuid of its own:
+// the counterpart's uuid belongs to the participant that announced it, and
+// another one's heartbeats for it are ignored (an ownership conflict).
 class SilentHeartbeat {
  public:
-  SilentHeartbeat(int domain, const std::string& uuid)
+  SilentHeartbeat(int domain, const std::string& partition_uuid, const std::string& uuid)
       : participant_(domain, qos::participant_qos({})),
-        publisher_(participant_, {topics::device_partition(uuid)}),
+        publisher_(participant_, {topics::device_partition(partition_uuid)}),
         heartbeat_(participant_, publisher_, uuid, kGroup) {
     thread_ = std::thread([this] { keep_alive(); });
   }
@@ -95,13 +98,13 @@ TEST(FalseAlarms, SilentInstanceOfALiveCounterpartDoesNotLoseTheLink) {
   std::atomic<int> extra_beats{0};
   DomainObserverCallbacks ocb;
   ocb.on_heartbeat = [&](const ObservedHeartbeat& h) {
-    if (h.device_uuid == "robot-fa" && h.group == SilentHeartbeat::kGroup) ++extra_beats;
+    if (h.device_uuid == "robot-fa-retired" && h.group == SilentHeartbeat::kGroup) ++extra_beats;
     rec.notify();
   };
   DomainObserverOptions oo;
   oo.domain_id = 56;
   DomainObserver observer(oo, ocb);
-  SilentHeartbeat retired(56, "robot-fa");
+  SilentHeartbeat retired(56, "robot-fa", "robot-fa-retired");
   ASSERT_TRUE(rec.wait([&] { return extra_beats.load() >= 3; }));
   retired.go_silent();
 

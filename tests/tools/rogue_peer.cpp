@@ -33,9 +33,8 @@ struct RoguePeer::Impl {
 
   Impl(int domain, const std::string& device, const qos::Timing& t)
       : timing(t),
-        participant(domain,
-                    qos::participant_qos({"rogue-" + device, qos::Transport::LoopbackUdp, {}, t})) {
-  }
+        participant(domain, qos::participant_qos(
+                                {"rogue-" + device, qos::Transport::LoopbackUdp, {}, t, ""})) {}
 
   // Writes the current value as a change.
   void publish() {

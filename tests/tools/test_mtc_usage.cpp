@@ -55,6 +55,23 @@ TEST(CliUsage, EveryCommandHasHelpWithExamples) {
   }
 }
 
+// Every command takes --security; a directory that is not there is bad
+// input (exit 2, named), found before any participant exists.
+TEST(CliUsage, EveryCommandRefusesAMissingSecurityDirectoryNamingIt) {
+  const std::vector<std::vector<std::string>> commands = {
+      {"watch"},
+      {"list"},
+      {"request", "--device", "cnc-1", "--interface", "mh1", "--service", "MATERIAL_LOAD",
+       "--counterpart", "robot-1"},
+      {"respond", "--device", "robot-1", "--interface", "mh1", "--service", "MATERIAL_LOAD"}};
+  for (auto args : commands) {
+    args.insert(args.end(), {"--security", "/nonexistent/pki"});
+    const MtcRun r = run_mtc(args);
+    EXPECT_EQ(r.code, 2) << args[0] << "\n" << r.err;
+    EXPECT_NE(r.err.find("/nonexistent/pki"), std::string::npos) << args[0] << "\n" << r.err;
+  }
+}
+
 TEST(CliUsage, UnknownCommandExits2) {
   const MtcRun r = run_mtc({"frobnicate"});
   EXPECT_EQ(r.code, 2);

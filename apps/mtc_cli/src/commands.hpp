@@ -28,6 +28,8 @@ struct CommonOptions {
   // is not selectable (each topic's preset follows from the heartbeat).
   std::optional<qos::Transport> profile_transport;
   bool json = false;
+  // --security DIR: the DDS-Security identity (scripts/security/make-pki.sh).
+  std::string security_dir;
 };
 
 void add_common_options(CommandSpec& spec);

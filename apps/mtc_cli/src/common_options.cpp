@@ -11,6 +11,9 @@ void add_common_options(CommandSpec& spec) {
       {"qos-profile", "NAME",
        "participant QoS profile, which selects the transport (" + known_profiles_text() + ")",
        "loopback transport"});
+  spec.options.push_back({"security", "DIR",
+                          "DDS-Security identity directory (scripts/security/make-pki.sh)",
+                          "unsecured"});
   spec.options.push_back({"json", "", "print one JSON object per line (for scripts)", ""});
 }
 
@@ -32,6 +35,7 @@ CommonOptions parse_common_options(const ParsedArgs& args) {
     common.profile_transport = participant_profile_transport(*p);
   }
   common.json = args.has("json");
+  common.security_dir = args.value_or("security", "");
   return common;
 }
 

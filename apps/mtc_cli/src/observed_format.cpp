@@ -23,6 +23,7 @@ dds::DomainObserverOptions observer_options(const CommonOptions& common, const P
   o.device_filter = args.values("device");
   o.transport = s.transport;
   o.timing = s.timing;
+  o.security_dir = common.security_dir;
   return o;
 }
 

@@ -32,6 +32,16 @@ struct HttpServer::Impl {
     if (options.io_threads == 0) {
       options.io_threads = 1;
     }
+    const bool has_cert = !options.tls_certificate_file.empty();
+    if (has_cert != !options.tls_private_key_file.empty()) {
+      throw std::invalid_argument("HTTPS needs both a certificate and its private key (only the " +
+                                  std::string(has_cert ? "certificate" : "private key") +
+                                  " is given)");
+    }
+    if (has_cert) {
+      shared->tls =
+          detail::make_tls_context(options.tls_certificate_file, options.tls_private_key_file);
+    }
     shared->agent = std::move(agent);
     shared->options = std::move(options);
   }
@@ -221,6 +231,10 @@ std::uint16_t HttpServer::port() const noexcept {
 
 const std::string& HttpServer::bind_address() const noexcept {
   return impl_->shared->options.bind_address;
+}
+
+bool HttpServer::is_https() const noexcept {
+  return impl_->shared->tls != nullptr;
 }
 
 std::size_t HttpServer::pending_bytes() const noexcept {

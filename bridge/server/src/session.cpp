@@ -87,15 +87,15 @@ Session::Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::
       remote_(std::move(remote)),
       waiting_since_(steady_ns()),
       first_deadline_(Clock::now() + shared_->options.header_timeout),
-      stream_(std::move(socket)) {
+      stream_(std::move(socket), shared_->tls.get()) {
   beast::error_code ec;
-  stream_.socket().set_option(tcp::no_delay(true), ec);  // best effort
+  stream_.tcp().socket().set_option(tcp::no_delay(true), ec);  // best effort
   // A peer that vanished without FIN or RST (cable pulled, host down) would
   // keep a stream's unacknowledged parts retransmitting for ~15 minutes;
   // the kernel gives up after the write timeout instead, which also ends
   // the pending read and so the session.
   const auto user_timeout = static_cast<unsigned>(shared_->options.write_timeout.count());
-  ::setsockopt(stream_.socket().native_handle(), IPPROTO_TCP, TCP_USER_TIMEOUT, &user_timeout,
+  ::setsockopt(stream_.tcp().socket().native_handle(), IPPROTO_TCP, TCP_USER_TIMEOUT, &user_timeout,
                sizeof user_timeout);
 }
 
@@ -142,7 +142,19 @@ void Session::start() {
     close();
     return;
   }
-  wait_for_request();
+  if (!stream_.is_tls()) {
+    wait_for_request();
+    return;
+  }
+  // The TLS handshake counts against the first request's header timeout.
+  stream_.tcp().expires_at(first_deadline_);
+  stream_.async_handshake([self = shared_from_this()](beast::error_code ec) {
+    if (ec) {
+      self->close();
+      return;
+    }
+    self->wait_for_request();
+  });
 }
 
 // Waits for the first byte of the next request under the idle timeout (the
@@ -154,10 +166,10 @@ void Session::wait_for_request() {
   }
   const auto& options = shared_->options;
   if (first_request_) {
-    stream_.expires_at(first_deadline_);
+    stream_.tcp().expires_at(first_deadline_);
   } else {
     mark_waiting(true);
-    stream_.expires_after(options.idle_timeout);
+    stream_.tcp().expires_after(options.idle_timeout);
   }
   stream_.async_read_some(buffer_.prepare(kReadChunk),
                           [self = shared_from_this()](beast::error_code ec, std::size_t bytes) {
@@ -174,12 +186,12 @@ void Session::read_header() {
   parser_.emplace();
   parser_->header_limit(static_cast<std::uint32_t>(shared_->options.header_limit));
   if (first_request_) {
-    stream_.expires_at(first_deadline_);
+    stream_.tcp().expires_at(first_deadline_);
   } else {
-    stream_.expires_after(shared_->options.header_timeout);
+    stream_.tcp().expires_after(shared_->options.header_timeout);
   }
-  http::async_read_header(
-      stream_, buffer_, *parser_,
+  stream_.async_read_header(
+      buffer_, *parser_,
       [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_header(ec); });
 }
 
@@ -264,12 +276,12 @@ void Session::answer(Response response, bool keep_alive, bool head_only) {
     return;
   }
 
-  stream_.expires_after(shared_->options.write_timeout);
+  stream_.tcp().expires_after(shared_->options.write_timeout);
   const std::array<asio::const_buffer, 2> buffers{asio::buffer(head_), asio::buffer(body_)};
-  asio::async_write(stream_, buffers,
-                    [self = shared_from_this(), keep_alive](beast::error_code ec, std::size_t) {
-                      self->on_answered(ec, keep_alive);
-                    });
+  stream_.async_write(buffers,
+                      [self = shared_from_this(), keep_alive](beast::error_code ec, std::size_t) {
+                        self->on_answered(ec, keep_alive);
+                      });
 }
 
 void Session::answer_error(int status, std::string_view code, std::string_view message) {
@@ -297,7 +309,7 @@ void Session::linger_close() {
     waiting_since_ = 1;  // the first to make room for a new connection
     linger_deadline_ = Clock::now() + kLingerTimeout;
     beast::error_code ec;
-    stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+    stream_.tcp().socket().shutdown(tcp::socket::shutdown_send, ec);
     if (ec) {
       close();
       return;
@@ -309,7 +321,7 @@ void Session::linger_close() {
     close();
     return;
   }
-  stream_.expires_at(linger_deadline_);
+  stream_.tcp().expires_at(linger_deadline_);
   stream_.async_read_some(buffer_.prepare(kReadChunk),
                           [self = shared_from_this()](beast::error_code read_ec, std::size_t n) {
                             if (read_ec) {
@@ -335,8 +347,8 @@ void Session::close() {
     }
   }
   beast::error_code ec;
-  stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
-  stream_.close();
+  stream_.tcp().socket().shutdown(tcp::socket::shutdown_both, ec);
+  stream_.tcp().close();
 }
 
 void Session::reject_busy() {
@@ -371,7 +383,7 @@ void Session::shutdown() {
 // ---- streaming -------------------------------------------------------------
 
 void Session::start_stream(StreamPlan plan) {
-  stream_state_ = std::make_unique<Stream>(stream_.get_executor());
+  stream_state_ = std::make_unique<Stream>(stream_.tcp().get_executor());
   auto& state = *stream_state_;
   state.plan = std::move(plan);
   state.boundary = make_boundary();
@@ -380,13 +392,13 @@ void Session::start_stream(StreamPlan plan) {
   state.subscription = shared_->agent->subscribe([weak] {
     if (auto self = weak.lock()) {
       if (!self->stream_state_->wake_pending.exchange(true)) {
-        asio::post(self->stream_.get_executor(), [self] { self->on_wake(); });
+        asio::post(self->stream_.tcp().get_executor(), [self] { self->on_wake(); });
       }
     }
   });
   state.subscribed = true;
 
-  stream_.expires_never();
+  stream_.tcp().expires_never();
   read_until_eof();  // notices a client that hangs up between parts
   write_stream_head(head_, state.boundary, shared_->options.server_name);
   write_part();  // head and first part leave together
@@ -472,13 +484,12 @@ void Session::write_part() {
   write_part_head(head_, state.boundary, part.content_type, body_.size());
 
   state.writing = true;
-  stream_.expires_after(shared_->options.write_timeout);  // read side stays unbounded
+  stream_.tcp().expires_after(shared_->options.write_timeout);  // read side stays unbounded
   const std::array<asio::const_buffer, 3> buffers{asio::buffer(head_), asio::buffer(body_),
                                                   asio::buffer(kPartTail.data(), kPartTail.size())};
-  asio::async_write(stream_, buffers,
-                    [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                      self->on_part_written(ec, false);
-                    });
+  stream_.async_write(buffers, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    self->on_part_written(ec, false);
+  });
 }
 
 void Session::write_stream_end() {
@@ -487,11 +498,11 @@ void Session::write_stream_end() {
   state.writing = true;
   state.timer.cancel();
   detail::write_stream_end(head_, state.boundary);
-  stream_.expires_after(kStreamEndTimeout);
-  asio::async_write(stream_, asio::buffer(head_),
-                    [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                      self->on_part_written(ec, true);
-                    });
+  stream_.tcp().expires_after(kStreamEndTimeout);
+  stream_.async_write(asio::buffer(head_),
+                      [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                        self->on_part_written(ec, true);
+                      });
 }
 
 void Session::on_part_written(beast::error_code ec, bool last) {

@@ -6,7 +6,6 @@
 #include <atomic>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
-#include <boost/beast/core/tcp_stream.hpp>
 #include <boost/beast/http/empty_body.hpp>
 #include <boost/beast/http/parser.hpp>
 #include <chrono>
@@ -17,6 +16,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "connection.hpp"
 #include "mtc/bridge/http_server.hpp"
 
 namespace mtc::bridge::detail {
@@ -32,6 +32,7 @@ class Session;
 struct ServerShared {
   std::shared_ptr<Agent> agent;
   ServerOptions options;
+  std::unique_ptr<asio::ssl::context> tls;  // null: plain HTTP
   std::atomic<bool> stopping{false};
   // Answer bytes on their way to clients (ServerOptions::max_pending_bytes).
   std::atomic<std::size_t> pending_bytes{0};
@@ -59,7 +60,7 @@ class Session : public std::enable_shared_from_this<Session> {
   void evict();        // make room for a new connection: close
 
   // The connection's strand.
-  asio::any_io_executor executor() { return stream_.get_executor(); }
+  asio::any_io_executor executor() { return stream_.tcp().get_executor(); }
   const std::string& remote() const noexcept { return remote_; }
   std::uint64_t id() const noexcept { return id_; }
   // Since when (steady clock, ns) the connection waits for a request or the
@@ -100,7 +101,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::atomic<std::int64_t> waiting_since_{0};
   std::chrono::steady_clock::time_point first_deadline_;  // whole first header
   std::size_t pending_ = 0;                               // this session's share of pending_bytes
-  beast::tcp_stream stream_;
+  Connection stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::empty_body>> parser_;
   unsigned version_ = 11;

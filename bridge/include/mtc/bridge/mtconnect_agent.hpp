@@ -54,6 +54,10 @@ struct AgentOptions {
   // What a request's `path` XPath may cost (length, nesting, estimated node
   // visits); a path over them is refused with INVALID_PATH before it runs.
   PathLimits path_limits;
+  // Devices accepted from DDS announcements. Anyone on an unsecured domain
+  // may announce: beyond this, a new device takes the place of one that has
+  // left (lost longest ago), or is refused (a warning says so).
+  std::size_t max_announced_devices = 256;
   // Header sender attribute.
   std::string sender = "mtc-bridge";
   // Header instanceId; 0 = seconds since the epoch at construction, so every
@@ -105,7 +109,11 @@ class MtconnectAgent : public Agent {
   // --- ingest: called from the DDS dispatch thread (any thread is safe) ---
   // A device's announcement. Without a Devices file, a new or changed
   // announcement rebuilds the model (deviceModelChangeTime moves). Either
-  // way the device's AVAILABILITY item (if any) becomes AVAILABLE.
+  // way the device's AVAILABILITY item (if any) becomes AVAILABLE. With a
+  // Devices file, an announcement maps onto a file device of the same uuid,
+  // or of the same name when no other announcement claimed it first; it
+  // never changes the file's model. Beyond max_announced_devices, refused
+  // unless a device that left makes room.
   virtual void add_device(const core::ObservedDevice& device) = 0;
   // One value. Appended only when it differs from the item's latest value
   // (an unchanged value, e.g. the last one handed over again after a loss,
@@ -116,7 +124,8 @@ class MtconnectAgent : public Agent {
   virtual void items_lost(const std::string& device_uuid,
                           const std::vector<std::string>& data_item_ids) = 0;
   // The device's announcement writer is gone: every item of the device,
-  // including AVAILABILITY, reads UNAVAILABLE.
+  // including AVAILABILITY, reads UNAVAILABLE. It stays in the model until
+  // a new device needs its place (max_announced_devices).
   virtual void device_lost(const std::string& device_uuid) = 0;
 
   // --- observations by item (the SHDR adapter) ---

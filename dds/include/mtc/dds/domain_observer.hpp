@@ -53,6 +53,13 @@ struct DomainObserverCallbacks {
   std::function<void(const std::string& device_uuid)> on_device_lost;
   // Every heartbeat (optional; 10 per second per device at the default).
   std::function<void(const ObservedHeartbeat&)> on_heartbeat;
+  // Without DDS-Security: a participant other than the device's live owner
+  // (the one whose announcement was accepted) wrote an announcement, a value
+  // or a heartbeat for it (reported once per device, participant and kind);
+  // the sample was ignored, or held until the owner is lost (see
+  // docs/security.md). Unset: the report goes to stderr.
+  std::function<void(const std::string& device_uuid, const std::string& report)>
+      on_ownership_conflict;
 };
 
 struct DomainObserverOptions {
@@ -66,6 +73,9 @@ struct DomainObserverOptions {
   std::vector<std::string> device_filter;
   // Transport of the observer's participant (loopback only by default).
   qos::Transport transport = qos::Transport::Loopback;
+  // DDS-Security identity of the observer (a read-only one from
+  // scripts/security/make-pki.sh); empty: unsecured.
+  std::string security_dir;
   // The observer requests this liveliness lease from every heartbeat writer;
   // it must be at least the longest lease of the observed devices (a device
   // with a longer lease does not match, which the observer reports on

@@ -199,6 +199,9 @@ struct EquipmentOptions {
   qos::FaultInjection faults;  // qos::Transport::LoopbackTest only
   core::Profile profile = core::Profile::V1_6;
   RecoveryPolicy recovery = RecoveryPolicy::AfterCommsLoss;
+  // DDS-Security identity of this device (scripts/security/make-pki.sh);
+  // empty: unsecured. A bad directory is a ConfigError naming the file.
+  std::string security_dir;
 };
 
 class Equipment;

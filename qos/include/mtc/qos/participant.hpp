@@ -62,7 +62,26 @@ struct ParticipantConfig {
   Transport transport = Transport::Loopback;
   FaultInjection faults;
   Timing timing;
+  // DDS-Security: a directory made by scripts/security/make-pki.sh for one
+  // identity (kSecurityFiles). Empty: no security (any participant of the
+  // domain may read and write). Set: authentication (PKI-DH), access control
+  // with the signed governance and permissions, and AES-GCM encryption.
+  std::string security_dir;
 };
+
+// The files of a security directory: the CA that signed the identities, the
+// governance and the permissions; the identity's certificate and key.
+inline constexpr std::array<const char*, 5> kSecurityFiles = {"ca.pem", "cert.pem", "key.pem",
+                                                              "governance.p7s", "permissions.p7s"};
+
+// Checks a security directory before Fast DDS sees it, so that a bad one is
+// told by file: missing or unreadable files, a certificate not signed by
+// ca.pem or outside its validity, a key that is not the certificate's, a
+// governance or permissions document whose signature does not verify
+// against ca.pem (tampered, or signed by another CA). Returns the problem
+// in words, naming the file, or nullopt. participant_qos() throws
+// std::invalid_argument with the same text.
+std::optional<std::string> check_security_dir(const std::string& dir);
 
 // Named participant profiles, as in the XML file: "mtc.participant.loopback"
 // (UDPv4 127.0.0.1 + SHM) and "mtc.participant.loopback_udp"; throws

@@ -53,12 +53,19 @@ struct ServerOptions {
   // clients that never read cannot pin more; small answers always go.
   std::size_t max_pending_bytes = std::size_t{64} << 20;
   std::string server_name = "mtc-bridge";
+  // HTTPS: PEM certificate (chain) and private key. Both set: every
+  // connection speaks TLS (a plain HTTP client fails its handshake); both
+  // empty: plain HTTP. One without the other, or a file that cannot be used,
+  // is refused by the constructor (std::invalid_argument naming it).
+  std::string tls_certificate_file;
+  std::string tls_private_key_file;
 };
 
 class HttpServer {
  public:
   // Binds and listens at once (so the port is known and errors surface
-  // here); throws std::system_error when the address cannot be bound.
+  // here); throws std::system_error when the address cannot be bound and
+  // std::invalid_argument for unusable TLS files.
   HttpServer(std::shared_ptr<Agent> agent, ServerOptions options);
   ~HttpServer();  // stop()
   HttpServer(const HttpServer&) = delete;
@@ -74,6 +81,7 @@ class HttpServer {
   // The bound port (useful when options.port was 0).
   std::uint16_t port() const noexcept;
   const std::string& bind_address() const noexcept;
+  bool is_https() const noexcept;
 
   // Connections open right now (tests, diagnostics).
   std::size_t connection_count() const noexcept;

@@ -24,13 +24,20 @@
 #include <vector>
 
 #include "mtc/dds/error.hpp"
+#include "mtc/qos/participant.hpp"
 
 namespace mtc::dds::detail {
 
 namespace fdds = eprosima::fastdds::dds;
 
+// qos::participant_qos(), with a bad configuration (timing, security
+// directory) as a ConfigError.
+fdds::DomainParticipantQos checked_qos(const qos::ParticipantConfig& config);
+
 class Participant {
  public:
+  // A refused participant is a CreationError; with DDS-Security it names the
+  // security directory whose files Fast DDS refused.
   Participant(int domain_id, const fdds::DomainParticipantQos& qos);
   ~Participant();
   Participant(const Participant&) = delete;
