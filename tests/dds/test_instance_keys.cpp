@@ -133,9 +133,15 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
 
   cnc.start();
   robot.start();
+  // start() publishes each of the six interaction items (TRANSIENT_LOCAL),
+  // and a writer sends to a reader only once it has matched it: when all six
+  // have arrived, each of the four writers has matched the test's readers.
+  // The handshakes take a few hundred ms; begun earlier, they could all be
+  // over before a late-discovered writer matched, leaving the readers with
+  // its items' last values only, and nothing written after them.
+  ASSERT_TRUE(counter.wait_for(6, 1)) << counter.summary();
   // Items are written on change only: handshakes until the test's readers
-  // (matched by the writers at some point of them) have seen each of the
-  // six interaction items change a few times.
+  // have seen each of the six interaction items change a few times.
   RequestOptions wait;
   wait.wait_for_ready = kTimeout;
   for (int i = 0; i < 50 && !counter.seen(6, 6); ++i) {
