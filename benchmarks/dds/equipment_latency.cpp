@@ -29,6 +29,7 @@
 
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
+#include "proc_cpu.hpp"
 
 namespace mtc::bench {
 namespace {
@@ -158,8 +159,8 @@ struct PairRun {
 };
 
 // Runs `handshakes` (after a warm-up) against a responder that is already
-// up (thread or peer process).
-PairRun run_requester(int domain, qos::Transport t, int handshakes) {
+// up (thread or peer process `peer`, whose CPU time is counted too).
+PairRun run_requester(int domain, qos::Transport t, int handshakes, pid_t peer) {
   Probe probe;
   dds::Equipment eq(equipment_options(kRequester, domain, t), probe.callbacks());
   eq.add_interface(interface_to(kResponder));
@@ -167,7 +168,11 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes) {
   eq.start();
   PairRun run;
   const int warmup = 20;
+  double cpu0 = 0;
   for (int i = 0; i < warmup + handshakes; ++i) {
+    if (i == warmup) {
+      cpu0 = cpu_seconds_both(peer);
+    }
     probe.arm();
     const auto t0 = dds::detail::topics::realtime_ns();
     // The first request also waits for discovery and pairing.
@@ -186,6 +191,9 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes) {
       run.transition.samples_us.push_back(v);
     }
   }
+  // Idle time between handshakes (heartbeats) is counted too; there is none
+  // to speak of: the next request follows at once.
+  run.handshake.cpu_us_per_op = (cpu_seconds_both(peer) - cpu0) * 1e6 / handshakes;
   return run;
 }
 
@@ -219,11 +227,11 @@ PairRun run_config(int domain, qos::Transport t, int processes, int handshakes) 
   PairRun run;
   if (processes == 1) {
     auto responder = make_responder(domain, t);
-    run = run_requester(domain, t, handshakes);
+    run = run_requester(domain, t, handshakes, 0);
   } else {
     const pid_t peer = spawn_peer(domain, t);
     try {
-      run = run_requester(domain, t, handshakes);
+      run = run_requester(domain, t, handshakes, peer);
     } catch (...) {
       stop_peer(peer);
       throw;
