@@ -5,13 +5,20 @@
 #   bridge_agent.json    mtc-bench-bridge-agent (Google Benchmark JSON)
 #   bridge_path_cost.json  mtc-bench-bridge-path-cost (one JSON line)
 #   bridge_http.json     benchmarks/bridge_http/run.sh (one JSON object per line)
-#   dds_latency.json     mtc-bench-dds-latency: raw Fast DDS vs transition vs handshake
+#   dds_latency.json     mtc-bench-dds-latency: UDP, Fast DDS (WaitSet, listener) and
+#                        Cyclone round trips beside the mtc transition and handshake,
+#                        with ratios; dds_latency_samples.json its raw samples
 #   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
 #   security.json        mtc-bench-security: start-up and handshake, secured vs unsecured
+#   latency_cdf_shm_udp.png, latency_cdf_udp_loopback.png   latency CDFs per transport
+#   scale.json, scaling.png   mtc-bench-scale: 1/10/100 concurrent pairs, 20-device start-up
+#   summary.json         all of it in one summary (machine, load, run time), checked
+#                        for completeness (benchmarks/summary.py)
 #
 # Usage: benchmarks/run.sh [--no-build] [--quick]
 #   --no-build  use the build as it is (default: scripts/build.sh first)
-#   --quick     fewer samples, for a smoke run
+#   --quick     fewer samples, for a smoke run (the CI test benchmarks.smoke); exits 1
+#               when summary.json misses a figure
 # Environment: MTC_BUILD_DIR (default <repo>/build), MTC_BENCH_RESULTS (default
 # <repo>/bench-results). Benchmarks that are not built are reported and skipped;
 # any benchmark that fails makes the exit code 1.
@@ -36,7 +43,12 @@ done
 
 [ "$build_first" = 1 ] && "$root/scripts/build.sh"
 mkdir -p "$out"
+# Results of an earlier run must not pass for this one's.
+rm -f "$out"/{core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
+  "$out"/{scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling}.png "$out"/cdf_*.dat
 failed=()
+started=$SECONDS
+load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 
 note() { echo "== $*" >&2; }
 
@@ -75,7 +87,8 @@ fi
 if [ -x "$bin/mtc-bench-bridge-current" ] && [ -x "$root/benchmarks/bridge_http/run.sh" ]; then
   note "bridge_http"
   if [ "$quick" = 1 ]; then
-    export MTC_BENCH_SECONDS=2 MTC_BENCH_SAMPLES=200 MTC_BENCH_ABUSE_SECONDS=1
+    export MTC_BENCH_SECONDS=1 MTC_BENCH_SAMPLES=100 MTC_BENCH_ABUSE_SECONDS=1
+    export MTC_BENCH_FANOUT_CLIENTS=200 MTC_BENCH_FANOUT_FEEDS=10 MTC_BENCH_NO_ABUSE=1
   fi
   if "$root/benchmarks/bridge_http/run.sh" "$build" >/dev/null; then
     cp "$bin/bridge_http.json" "$out/bridge_http.json"
@@ -87,8 +100,8 @@ else
 fi
 
 if [ -x "$bin/mtc-bench-dds-latency" ]; then
-  dds_args=(--out "$out/dds_latency.json")
-  [ "$quick" = 1 ] && dds_args+=(--samples 300 --handshakes 60)
+  dds_args=(--out "$out/dds_latency.json" --samples-out "$out/dds_latency_samples.json")
+  [ "$quick" = 1 ] && dds_args+=(--samples 200 --handshakes 30 --rounds 1 --cyclone-seconds 1)
   run_one mtc-bench-dds-latency "$bin/mtc-bench-dds-latency" "${dds_args[@]}" >/dev/null
   if [ -s "$out/dds_latency.json" ]; then
     python3 "$root/benchmarks/dds/plot_latency.py" "$out/dds_latency.json" "$out/dds_latency" ||
@@ -105,6 +118,20 @@ if [ -x "$bin/mtc-bench-security" ]; then
 else
   note "mtc-bench-security not built, skipped"
 fi
+
+if [ -x "$bin/mtc-bench-scale" ]; then
+  scale_args=(--out "$out/scale.json")
+  [ "$quick" = 1 ] && scale_args+=(--seconds 1 --startup-devices 4)
+  run_one mtc-bench-scale "$bin/mtc-bench-scale" "${scale_args[@]}" >/dev/null
+else
+  note "mtc-bench-scale not built, skipped"
+fi
+
+python3 "$root/benchmarks/plot_summary.py" "$out" >/dev/null || failed+=("plots")
+summary_args=("$out" --seconds "$((SECONDS - started))" --load-start "$load_start")
+[ "$quick" = 1 ] && summary_args+=(--quick --check)
+python3 "$root/benchmarks/summary.py" "${summary_args[@]}" >/dev/null || failed+=("summary")
+note "run took $((SECONDS - started)) s (load average $load_start at the start)"
 
 note "results in $out:"
 ls -1 "$out" >&2

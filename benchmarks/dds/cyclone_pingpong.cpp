@@ -98,10 +98,14 @@ std::string read_all(int fd) {
 
 std::optional<CycloneResult> run_cyclone_round_trips(int domain, int seconds, std::string& why) {
   const std::string dom = std::to_string(domain);
-  const std::string pong_seconds = std::to_string(seconds + 6);
+  // ddsperf's -D counts from its start, discovery included: two seconds more
+  // so that a slow start on a loaded machine still leaves `seconds` of
+  // round trips (its per-second reports come at whole seconds of its clock).
+  const std::string ping_seconds = std::to_string(seconds + 2);
+  const std::string pong_seconds = std::to_string(seconds + 8);
   CycloneResult result;
-  result.command = "ddsperf -i " + dom + " pong & ddsperf -i " + dom + " -D " +
-                   std::to_string(seconds) + " -Qminmatch:1 -Qinitwait:5 ping";
+  result.command = "ddsperf -i " + dom + " pong & ddsperf -i " + dom + " -D " + ping_seconds +
+                   " -Qminmatch:1 -Qinitwait:5 ping";
   int pipe_fds[2];
   const int null_fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
   if (null_fd < 0 || ::pipe2(pipe_fds, O_CLOEXEC) != 0) {
@@ -110,8 +114,7 @@ std::optional<CycloneResult> run_cyclone_round_trips(int domain, int seconds, st
   const pid_t pong = spawn_ddsperf({"-i", dom, "-D", pong_seconds, "pong"}, null_fd);
   ::close(null_fd);
   const pid_t ping = spawn_ddsperf(
-      {"-i", dom, "-D", std::to_string(seconds), "-Qminmatch:1", "-Qinitwait:5", "ping"},
-      pipe_fds[1]);
+      {"-i", dom, "-D", ping_seconds, "-Qminmatch:1", "-Qinitwait:5", "ping"}, pipe_fds[1]);
   ::close(pipe_fds[1]);
   const std::string output = read_all(pipe_fds[0]);
   ::close(pipe_fds[0]);

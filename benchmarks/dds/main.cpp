@@ -53,6 +53,7 @@ struct Options {
   int rounds = 3;
   int cyclone_seconds = 3;
   std::string out;
+  std::string samples_out;
   bool raw = true;
   bool equipment = true;
   bool peer = false;            // internal: this process is the forked ponger
@@ -92,9 +93,12 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
                "handshakes per equipment series, split over the\nrounds")
       .integer("--rounds", o.rounds, 1, 1000, "rounds the series are interleaved in")
       .integer("--cyclone-seconds", o.cyclone_seconds, 0, 3600,
-               "seconds of ddsperf ping (0: no Cyclone baseline)")
+               "seconds of ddsperf ping, plus 2 for its start-up\n(0: no Cyclone baseline)")
       .choice("--only", only, {"raw", "equipment"}, "measure only these series (default both)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE (default stdout only)")
+      .text("--samples-out", "FILE", o.samples_out,
+            "write every series' samples, sorted, to FILE as\n{\"name\":[us,...],...} (for CDF "
+            "plots)")
       .internal_options_follow()
       .flag("--peer", o.peer, "be the raw ping-pong peer")
       .flag("--equipment-peer", o.equipment_peer, "be the responder equipment peer")
@@ -269,6 +273,23 @@ std::vector<Series> run_round(const Options& o) {
   return round;
 }
 
+// {"name":[sorted samples in us],...}: what a CDF is drawn from.
+bool write_samples(const std::string& path, const std::vector<Series>& all) {
+  std::ofstream file(path);
+  file << "{";
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::vector<double> sorted = all[i].samples_us;
+    std::sort(sorted.begin(), sorted.end());
+    file << (i == 0 ? "\n" : ",\n") << "\"" << all[i].name << "\":[";
+    for (std::size_t k = 0; k < sorted.size(); ++k) {
+      file << (k == 0 ? "" : ",") << static_cast<long long>(sorted[k] * 10) / 10.0;
+    }
+    file << "]";
+  }
+  file << "\n}\n";
+  return static_cast<bool>(file);
+}
+
 // Pools a round's samples into the series of the earlier rounds; the CPU
 // per operation becomes the mean weighted by sample count.
 void pool(Series& into, const Series& more) {
@@ -305,6 +326,10 @@ int run(const Options& o) {
     }
   }
   context.load_end = mtc::bench::load_average();
+  if (!o.samples_out.empty() && !write_samples(o.samples_out, all)) {
+    std::cerr << "cannot write " << o.samples_out << "\n";
+    return 1;
+  }
   const std::string json = to_json(o, all, context);
   std::cout << json;
   if (!o.out.empty()) {
