@@ -41,16 +41,16 @@ for arg in "$@"; do
   esac
 done
 
+started=$SECONDS
 [ "$build_first" = 1 ] && "$root/scripts/build.sh"
 mkdir -p "$out"
 # Results of an earlier run must not pass for this one's.
 rm -f "$out"/{core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
   "$out"/{scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling}.png "$out"/cdf_*.dat
 failed=()
-started=$SECONDS
 load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 
-note() { echo "== $*" >&2; }
+note() { echo "== $* (at $((SECONDS - started)) s)" >&2; }
 
 # run_one <name> <command...>: runs inside the namespace, records a failure.
 run_one() {

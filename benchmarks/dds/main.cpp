@@ -60,6 +60,7 @@ struct Options {
   bool equipment_peer = false;  // internal: the forked responder equipment
   bool listener = false;        // internal: the ponger echoes from its listener
   int udp_peer_fd = -1;         // internal: be the UDP echo on this socket
+  int round = 1;                // internal: the equipment peer's round
   Transport transport = Transport::UdpLoopback;
   int domain = 100;
 };
@@ -104,6 +105,7 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .flag("--equipment-peer", o.equipment_peer, "be the responder equipment peer")
       .flag("--listener", o.listener, "echo from the reader's listener")
       .integer("--udp-peer-fd", o.udp_peer_fd, 0, 65535, "be the UDP echo on this socket")
+      .integer("--round", o.round, 1, 1000, "the equipment peer's round (its device names)")
       .choice("--transport", transport, {"udp_loopback", "shm_udp", "udp", "shm"},
               "the peer's transport")
       .integer("--domain", o.domain, 0, 232, "the peer's DDS domain");
@@ -249,7 +251,7 @@ std::string to_json(const Options& o, const std::vector<Series>& all, const RunC
 }
 
 // One round of every series, each with its share of the samples.
-std::vector<Series> run_round(const Options& o) {
+std::vector<Series> run_round(const Options& o, int round_number) {
   Options share = o;
   share.samples = std::max(1, o.samples / o.rounds);
   std::vector<Series> round;
@@ -265,6 +267,7 @@ std::vector<Series> run_round(const Options& o) {
   if (o.equipment) {
     mtc::bench::EquipmentBenchOptions eo;
     eo.first_domain_id = 104;  // 104-106
+    eo.round = round_number;
     eo.handshakes = std::max(1, o.handshakes / o.rounds);
     for (auto& s : mtc::bench::run_equipment_series(eo)) {
       round.push_back(std::move(s));
@@ -316,7 +319,7 @@ int run(const Options& o) {
   }
   for (int r = 0; r < o.rounds; ++r) {
     std::cerr << "-- round " << (r + 1) << " of " << o.rounds << "\n";
-    std::vector<Series> round = run_round(o);
+    std::vector<Series> round = run_round(o, r + 1);
     if (all.empty()) {
       all = std::move(round);
       continue;
@@ -355,7 +358,8 @@ int main(int argc, char** argv) {
       return mtc::bench::run_udp_echo(o.udp_peer_fd);
     }
     if (o.equipment_peer) {
-      return mtc::bench::run_equipment_peer(o.domain, o.transport == Transport::UdpLoopback);
+      return mtc::bench::run_equipment_peer(o.domain, o.transport == Transport::UdpLoopback,
+                                            o.round);
     }
     return o.peer ? run_peer(o) : run(o);
   } catch (const std::exception& e) {
