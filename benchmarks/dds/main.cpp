@@ -5,6 +5,7 @@
 // Domain ids 100-108 and, for Cyclone's ddsperf, 115 (benchmarks and the
 // cell own 100-119; the cell runs on 110, its tests on 111-113).
 // Must run inside the loopback-only namespace: benchmarks/run.sh does that.
+#include <fcntl.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -59,6 +60,7 @@ struct Options {
   bool peer = false;            // internal: this process is the forked ponger
   bool equipment_peer = false;  // internal: the forked responder equipment
   bool listener = false;        // internal: the ponger echoes from its listener
+  bool both_ends = false;       // internal: a one-process raw series, printed
   int udp_peer_fd = -1;         // internal: be the UDP echo on this socket
   int round = 1;                // internal: the equipment peer's round
   Transport transport = Transport::UdpLoopback;
@@ -104,6 +106,7 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .flag("--peer", o.peer, "be the raw ping-pong peer")
       .flag("--equipment-peer", o.equipment_peer, "be the responder equipment peer")
       .flag("--listener", o.listener, "echo from the reader's listener")
+      .flag("--both-ends", o.both_ends, "run a one-process raw series and print it")
       .integer("--udp-peer-fd", o.udp_peer_fd, 0, 65535, "be the UDP echo on this socket")
       .integer("--round", o.round, 1, 1000, "the equipment peer's round (its device names)")
       .choice("--transport", transport, {"udp_loopback", "shm_udp", "udp", "shm"},
@@ -158,6 +161,102 @@ pid_t spawn_peer(Transport t, int domain, bool listener) {
   return pid;
 }
 
+// Both ends of a raw series in one process: the ponger on a thread, the
+// pinger here. Raw endpoints of one process talk intra-process, as Fast DDS
+// does by default: this switches the process-wide setting on, which is why
+// the benchmark runs it in a child of its own (--both-ends) and never next
+// to the mtc series (the runtime switches it off for its participants).
+Series run_both_ends_here(const PingPongOptions& po) {
+  mtc::qos::set_intraprocess_delivery(true);
+  std::atomic<bool> stop{false};
+  std::thread ponger([&] {
+    try {
+      mtc::bench::run_ponger(po, stop);
+    } catch (const std::exception& e) {
+      std::cerr << "ponger: " << e.what() << "\n";
+    }
+  });
+  Series s;
+  try {
+    s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
+  } catch (...) {
+    stop.store(true);
+    ponger.join();
+    throw;
+  }
+  stop.store(true);
+  ponger.join();
+  return s;
+}
+
+// --both-ends: the series above, printed for the parent: "timeouts cpu"
+// on the first line, then one sample (us) per line.
+int print_both_ends(const Options& o) {
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  PingPongOptions po;
+  po.domain_id = o.domain;
+  po.transport = o.transport;
+  po.samples = o.samples;
+  po.warmup = o.warmup;
+  const Series s = run_both_ends_here(po);
+  std::cout << s.timeouts << " " << s.cpu_us_per_op << "\n";
+  for (double v : s.samples_us) {
+    std::cout << v << "\n";
+  }
+  return std::cout.good() ? 0 : 1;
+}
+
+Series run_both_ends_in_child(const Options& o, Transport t, int domain) {
+  const std::vector<std::string> args = {"mtc-bench-dds-latency",
+                                         "--both-ends",
+                                         "--transport",
+                                         mtc::bench::to_string(t),
+                                         "--domain",
+                                         std::to_string(domain),
+                                         "--samples",
+                                         std::to_string(o.samples),
+                                         "--warmup",
+                                         std::to_string(o.warmup)};
+  std::vector<char*> argv;
+  for (const auto& a : args) {
+    argv.push_back(const_cast<char*>(a.c_str()));
+  }
+  argv.push_back(nullptr);
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) {
+    throw std::runtime_error("pipe failed");
+  }
+  const pid_t pid = fork();
+  if (pid < 0) {
+    throw std::runtime_error("fork failed");
+  }
+  if (pid == 0) {
+    dup2(fds[1], STDOUT_FILENO);
+    execv("/proc/self/exe", argv.data());
+    _exit(127);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[4096];
+  for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) {
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    throw std::runtime_error("one-process raw series failed (status " + std::to_string(status) +
+                             ")");
+  }
+  std::istringstream in(text);
+  Series s;
+  in >> s.timeouts >> s.cpu_us_per_op;
+  for (double v; in >> v;) {
+    s.samples_us.push_back(v);
+  }
+  return s;
+}
+
 Series run_raw(const Options& o, Transport t, int processes, int domain, bool listener = false) {
   PingPongOptions po;
   po.domain_id = domain;
@@ -170,27 +269,7 @@ Series run_raw(const Options& o, Transport t, int processes, int domain, bool li
             << " samples\n";
   Series s;
   if (processes == 1) {
-    // Raw endpoints of one process talk intra-process, as Fast DDS does by
-    // default; an mtc series of the same run has turned it off (the
-    // runtime does, see mtc::dds::detail::deliver_through_transports).
-    mtc::qos::set_intraprocess_delivery(true);
-    std::atomic<bool> stop{false};
-    std::thread ponger([&] {
-      try {
-        mtc::bench::run_ponger(po, stop);
-      } catch (const std::exception& e) {
-        std::cerr << "ponger: " << e.what() << "\n";
-      }
-    });
-    try {
-      s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
-    } catch (...) {
-      stop.store(true);
-      ponger.join();
-      throw;
-    }
-    stop.store(true);
-    ponger.join();
+    s = run_both_ends_in_child(o, t, domain);
   } else {
     const pid_t peer = spawn_peer(t, domain, listener);
     po.peer = peer;
@@ -354,6 +433,9 @@ int main(int argc, char** argv) {
     return *exit_code;
   }
   try {
+    if (o.both_ends) {
+      return print_both_ends(o);
+    }
     if (o.udp_peer_fd >= 0) {
       return mtc::bench::run_udp_echo(o.udp_peer_fd);
     }
