@@ -46,7 +46,7 @@ started=$SECONDS
 mkdir -p "$out"
 # Results of an earlier run must not pass for this one's.
 rm -f "$out"/{core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
-  "$out"/{scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling}.png "$out"/cdf_*.dat
+  "$out"/{security,scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling}.png "$out"/cdf_*.dat
 failed=()
 load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 

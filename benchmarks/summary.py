@@ -168,6 +168,7 @@ def main():
         "load_average_end": load_end,
         "dds_latency": dds_part(load_json(os.path.join(r, "dds_latency.json"))),
         "scale": load_json(os.path.join(r, "scale.json")),
+        "security": load_json(os.path.join(r, "security.json")),
         "bridge": bridge_part(load_json_lines(os.path.join(r, "bridge_http.json"))),
         "core": {"benchmarks": len(core.get("benchmarks", []))} if core else None,
     }

@@ -2,7 +2,7 @@
 // transition and handshake latencies, measured in one run on one machine.
 // Prints one JSON object on stdout (and to --out FILE); progress on stderr.
 //
-// Domain ids 100-108 and, for Cyclone's ddsperf, 115 (benchmarks and the
+// Domain ids 100-106 and, for Cyclone's ddsperf, 115 (benchmarks and the
 // cell own 100-119; the cell runs on 110, its tests on 111-113).
 // Must run inside the loopback-only namespace: benchmarks/run.sh does that.
 #include <fcntl.h>
@@ -75,7 +75,7 @@ constexpr const char* kAbout =
     "over UDP loopback and over SHM+UDP where it applies; every series in --rounds\n"
     "rounds interleaved with the others, samples pooled. Every figure also as a ratio\n"
     "to the Fast DDS listener round trip and to the UDP round trip; CPU time per\n"
-    "operation (all processes) and the load average. DDS domains 100-108 and 115:\n"
+    "operation (all processes) and the load average. DDS domains 100-106 and 115:\n"
     "runs inside the loopback-only namespace (benchmarks/run.sh does that). Progress\n"
     "on stderr; one JSON object on stdout and, with --out, in FILE:\n"
     "  {\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"load_average\":...,\n"
@@ -336,8 +336,8 @@ std::vector<Series> run_round(const Options& o, int round_number) {
   std::vector<Series> round;
   if (o.raw) {
     round.push_back(mtc::bench::run_udp_round_trips("/proc/self/exe", share.warmup, share.samples));
-    round.push_back(run_raw(share, Transport::UdpLoopback, 2, 107, true));
-    round.push_back(run_raw(share, Transport::ShmUdp, 2, 108, true));
+    round.push_back(run_raw(share, Transport::UdpLoopback, 2, 102, true));
+    round.push_back(run_raw(share, Transport::ShmUdp, 2, 103, true));
     round.push_back(run_raw(share, Transport::UdpLoopback, 1, 100));
     round.push_back(run_raw(share, Transport::ShmUdp, 1, 101));
     round.push_back(run_raw(share, Transport::UdpLoopback, 2, 102));
