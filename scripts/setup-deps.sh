@@ -26,6 +26,8 @@ PACKAGES=(
   python3                                                  # benchmark plots and summaries
   gnuplot-nox                                              # benchmarks/run.sh latency plots (PNG);
                                                            # bookworm has no matplotlib by default
+  cyclonedds-tools                                         # ddsperf: Cyclone's round trip, the
+                                                           # yardstick in mtc-bench-dds-latency
   chromium                                                 # the live page's browser test (headless)
 )
 

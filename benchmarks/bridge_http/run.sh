@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# Runs the bridge HTTP benchmarks (mtc-bench-bridge-current, -stream, -abuse
-# and, when built, -dds-stream) inside the loopback-only namespace; their JSON
+# Runs the bridge HTTP benchmarks (mtc-bench-bridge-current, -stream, -abuse,
+# -fanout and, when built, -dds-stream) inside the loopback-only namespace; their JSON
 # summaries, one line each, go to stdout and to <build>/benchmarks/bridge_http.json.
 #
 # Usage: benchmarks/bridge_http/run.sh [build-dir]
 #   build-dir  default $MTC_BUILD_DIR, else <repo>/build
 # Environment: MTC_BENCH_SECONDS (wrk run, default 10), MTC_BENCH_SAMPLES
 # (streaming samples, default 2000; 1000 for -dds-stream), MTC_BENCH_ABUSE_SECONDS
-# (well-behaved requests per abuse, default 4).
+# (well-behaved requests per abuse, default 4), MTC_BENCH_NO_ABUSE=1 (skip the
+# abuse run), MTC_BENCH_FANOUT_CLIENTS / _FEEDS (default 1000 / 100).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
@@ -19,14 +20,19 @@ esac
 build="${1:-${MTC_BUILD_DIR:-$root/build}}"
 bin="$build/benchmarks"
 out="$bin/bridge_http.json"
-for exe in mtc-bench-bridge-current mtc-bench-bridge-stream mtc-bench-bridge-abuse; do
+for exe in mtc-bench-bridge-current mtc-bench-bridge-stream mtc-bench-bridge-abuse \
+  mtc-bench-bridge-fanout; do
   [ -x "$bin/$exe" ] || { echo "run.sh: $bin/$exe missing; build target ${exe//-/_}" >&2; exit 1; }
 done
 command -v wrk >/dev/null || { echo "run.sh: wrk not installed (apt-get install wrk)" >&2; exit 1; }
 {
   "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-current" --duration "${MTC_BENCH_SECONDS:-10}"
   "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-stream" --samples "${MTC_BENCH_SAMPLES:-2000}"
-  "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-abuse" --seconds "${MTC_BENCH_ABUSE_SECONDS:-4}"
+  if [ "${MTC_BENCH_NO_ABUSE:-0}" != 1 ]; then
+    "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-abuse" --seconds "${MTC_BENCH_ABUSE_SECONDS:-4}"
+  fi
+  "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-fanout" \
+    --clients "${MTC_BENCH_FANOUT_CLIENTS:-1000}" --feeds "${MTC_BENCH_FANOUT_FEEDS:-100}"
   if [ -x "$bin/mtc-bench-bridge-dds-stream" ]; then
     fastdds shm clean >/dev/null 2>&1 || true
     "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-dds-stream" --samples "${MTC_BENCH_SAMPLES:-1000}"

@@ -21,7 +21,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <condition_variable>
+#include <future>
 #include <iostream>
 #include <mutex>
 #include <stdexcept>
@@ -29,6 +31,7 @@
 
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
+#include "proc_cpu.hpp"
 
 namespace mtc::bench {
 namespace {
@@ -38,9 +41,16 @@ using namespace std::chrono_literals;
 
 constexpr const char* kRequester = "bench-requester";
 constexpr const char* kResponder = "bench-responder";
+
+// Each round's devices get names of their own: an equipment that comes back
+// under the name of one that just left (same domain, seconds later) is
+// another test; here every round is a first meeting of two new devices.
+std::string device_name(const char* role, int round) {
+  return std::string(role) + "-" + std::to_string(round);
+}
 constexpr const char* kInterface = "mh";
 
-dds::EquipmentOptions equipment_options(const char* uuid, int domain, qos::Transport t) {
+dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos::Transport t) {
   dds::EquipmentOptions o;
   o.domain_id = domain;
   o.device_uuid = uuid;
@@ -51,7 +61,7 @@ dds::EquipmentOptions equipment_options(const char* uuid, int domain, qos::Trans
   return o;
 }
 
-dds::InterfaceConfig interface_to(const char* peer) {
+dds::InterfaceConfig interface_to(const std::string& peer) {
   dds::InterfaceConfig c;
   c.id = kInterface;
   c.type = core::InterfaceType::MaterialHandler;
@@ -68,11 +78,12 @@ void quiet_diagnostic(const std::string& text) {
   }
 }
 
-std::unique_ptr<dds::Equipment> make_responder(int domain, qos::Transport t) {
+std::unique_ptr<dds::Equipment> make_responder(int domain, qos::Transport t, int round) {
   dds::EquipmentCallbacks callbacks;
   callbacks.on_diagnostic = quiet_diagnostic;
-  auto e = std::make_unique<dds::Equipment>(equipment_options(kResponder, domain, t), callbacks);
-  e->add_interface(interface_to(kRequester));
+  auto e = std::make_unique<dds::Equipment>(
+      equipment_options(device_name(kResponder, round), domain, t), callbacks);
+  e->add_interface(interface_to(device_name(kRequester, round)));
   dds::ResponderCallbacks cb;
   cb.on_request = [](dds::Responder& r) { r.complete(); };  // never wait inside a callback
   e->add_responder(kInterface, Service::MaterialLoad, cb);
@@ -155,25 +166,56 @@ class Probe {
 struct PairRun {
   Series transition;
   Series handshake;
+  int stalls = 0;  // requests that never got an outcome
 };
 
 // Runs `handshakes` (after a warm-up) against a responder that is already
-// up (thread or peer process).
-PairRun run_requester(int domain, qos::Transport t, int handshakes) {
+// up (thread or peer process `peer`, whose CPU time is counted too).
+PairRun run_requester(int domain, qos::Transport t, int handshakes, pid_t peer, int round) {
   Probe probe;
-  dds::Equipment eq(equipment_options(kRequester, domain, t), probe.callbacks());
-  eq.add_interface(interface_to(kResponder));
+  dds::Equipment eq(equipment_options(device_name(kRequester, round), domain, t),
+                    probe.callbacks());
+  eq.add_interface(interface_to(device_name(kResponder, round)));
   auto& req = eq.add_requester(kInterface, Service::MaterialLoad);
   eq.start();
   PairRun run;
   const int warmup = 20;
+  int failures_in_a_row = 0;
+  double cpu0 = 0;
   for (int i = 0; i < warmup + handshakes; ++i) {
+    if (i == warmup) {
+      cpu0 = cpu_seconds_both(peer);
+    }
     probe.arm();
     const auto t0 = dds::detail::topics::realtime_ns();
     // The first request also waits for discovery and pairing.
-    const auto result = req.request(dds::RequestOptions{i == 0 ? 10000ms : 2000ms}).get();
+    auto pending = req.request(dds::RequestOptions{i == 0 ? 10000ms : 2000ms});
+    if (pending.wait_for(15000ms) != std::future_status::ready) {
+      // A request that never ends (no outcome 15 s on: no time limit fired
+      // either) leaves the requester ACTIVE for good: give up on this series
+      // rather than hang the run, and say so.
+      const int not_run = handshakes - std::max(0, i - warmup);
+      std::cerr << "equipment latency: handshake " << i << " got no outcome in 15 s; " << not_run
+                << " timed handshakes of this series not run\n";
+      run.handshake.timeouts += static_cast<std::size_t>(not_run);
+      ++run.stalls;
+      break;
+    }
+    const auto result = pending.get();
     const auto both_ready =
         result.outcome == dds::Outcome::Completed ? probe.wait_both_ready(5000ms) : std::int64_t{0};
+    failures_in_a_row = both_ready == 0 ? failures_in_a_row + 1 : 0;
+    if (failures_in_a_row == 5) {
+      // Five in a row is no noise: a side is stuck. Say so, and stop here
+      // instead of spending seconds on each handshake left.
+      const int not_run = handshakes - std::max(0, i + 1 - warmup);
+      std::cerr << "equipment latency: 5 handshakes in a row failed (last: "
+                << dds::to_string(result.outcome) << "); " << not_run
+                << " timed handshakes of this series not run\n";
+      run.handshake.timeouts += static_cast<std::size_t>(not_run) + (i < warmup ? 0 : 1);
+      ++run.stalls;
+      break;
+    }
     if (i < warmup) {
       continue;
     }
@@ -186,6 +228,12 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes) {
       run.transition.samples_us.push_back(v);
     }
   }
+  // Idle time between handshakes (heartbeats) is counted too; there is none
+  // to speak of: the next request follows at once.
+  const auto timed = run.handshake.samples_us.size();
+  if (timed > 0 && run.stalls == 0) {
+    run.handshake.cpu_us_per_op = (cpu_seconds_both(peer) - cpu0) * 1e6 / handshakes;
+  }
   return run;
 }
 
@@ -193,8 +241,9 @@ std::string transport_name(qos::Transport t) {
   return t == qos::Transport::LoopbackUdp ? "udp_loopback" : "shm_udp";
 }
 
-pid_t spawn_peer(int domain, qos::Transport t) {
+pid_t spawn_peer(int domain, qos::Transport t, int round) {
   const std::string dom = std::to_string(domain);
+  const std::string round_text = std::to_string(round);
   const char* transport = t == qos::Transport::LoopbackUdp ? "udp" : "shm";
   const pid_t pid = fork();
   if (pid < 0) {
@@ -202,7 +251,7 @@ pid_t spawn_peer(int domain, qos::Transport t) {
   }
   if (pid == 0) {
     execl("/proc/self/exe", "mtc-bench-dds-latency", "--equipment-peer", "--transport", transport,
-          "--domain", dom.c_str(), static_cast<char*>(nullptr));
+          "--domain", dom.c_str(), "--round", round_text.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   return pid;
@@ -213,17 +262,17 @@ void stop_peer(pid_t pid) {
   waitpid(pid, nullptr, 0);
 }
 
-PairRun run_config(int domain, qos::Transport t, int processes, int handshakes) {
+PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, int round) {
   std::cerr << "equipment latency: " << transport_name(t) << ", " << processes << " process(es), "
             << handshakes << " handshakes\n";
   PairRun run;
   if (processes == 1) {
-    auto responder = make_responder(domain, t);
-    run = run_requester(domain, t, handshakes);
+    auto responder = make_responder(domain, t, round);
+    run = run_requester(domain, t, handshakes, 0, round);
   } else {
-    const pid_t peer = spawn_peer(domain, t);
+    const pid_t peer = spawn_peer(domain, t, round);
     try {
-      run = run_requester(domain, t, handshakes);
+      run = run_requester(domain, t, handshakes, peer, round);
     } catch (...) {
       stop_peer(peer);
       throw;
@@ -255,22 +304,22 @@ std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options) {
                  {qos::Transport::LoopbackUdp, 2}};
   int domain = options.first_domain_id;
   for (const auto& c : configs) {
-    PairRun run = run_config(domain++, c.transport, c.processes, options.handshakes);
+    PairRun run = run_config(domain++, c.transport, c.processes, options.handshakes, options.round);
     all.push_back(std::move(run.transition));
     all.push_back(std::move(run.handshake));
   }
   return all;
 }
 
-int run_equipment_peer(int domain, bool udp_only) {
+int run_equipment_peer(int domain, bool udp_only, int round) {
   prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the benchmark
   sigset_t set;
   sigemptyset(&set);
   sigaddset(&set, SIGTERM);
   sigaddset(&set, SIGINT);
   pthread_sigmask(SIG_BLOCK, &set, nullptr);  // before the runtime starts threads
-  auto responder =
-      make_responder(domain, udp_only ? qos::Transport::LoopbackUdp : qos::Transport::Loopback);
+  auto responder = make_responder(
+      domain, udp_only ? qos::Transport::LoopbackUdp : qos::Transport::Loopback, round);
   int sig = 0;
   sigwait(&set, &sig);
   return 0;

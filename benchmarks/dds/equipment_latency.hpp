@@ -14,12 +14,13 @@ namespace mtc::bench {
 struct EquipmentBenchOptions {
   int first_domain_id = 104;  // uses up to 4 ids from here
   int handshakes = 300;
+  int round = 1;  // part of the devices' names: a new pair per round
 };
 
 // The handshake series of the runtime (mtc::dds), one per transport.
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options);
 
 // The forked responder of the two-process series: runs until SIGTERM.
-int run_equipment_peer(int domain, bool udp_only);
+int run_equipment_peer(int domain, bool udp_only, int round);
 
 }  // namespace mtc::bench

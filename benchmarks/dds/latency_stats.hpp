@@ -20,11 +20,14 @@ struct Series {
   int processes = 1;      // 1: both ends in this process; 2: forked peer
   std::vector<double> samples_us;
   std::size_t timeouts = 0;  // iterations that got no answer in time
+  // CPU time (user + system) of every process taking part, per timed
+  // operation; negative when not measured.
+  double cpu_us_per_op = -1;
 };
 
 struct Summary {
   std::size_t count = 0;
-  double min = 0, mean = 0, p50 = 0, p90 = 0, p99 = 0, max = 0;
+  double min = 0, mean = 0, p50 = 0, p90 = 0, p99 = 0, p999 = 0, max = 0;
 };
 
 // Nearest-rank percentiles: every figure is a latency that really occurred.
@@ -45,6 +48,7 @@ inline Summary summarize(std::vector<double> samples) {
   s.p50 = rank(0.50);
   s.p90 = rank(0.90);
   s.p99 = rank(0.99);
+  s.p999 = rank(0.999);
   s.max = samples.back();
   return s;
 }
@@ -56,14 +60,19 @@ inline double to_us(std::chrono::steady_clock::duration d) {
 // One JSON object per series; names are fixed identifiers, no escaping needed.
 inline std::string to_json(const Series& series) {
   const Summary s = summarize(series.samples_us);
-  char buf[640];
+  char cpu[32] = "null";
+  if (series.cpu_us_per_op >= 0) {
+    std::snprintf(cpu, sizeof cpu, "%.1f", series.cpu_us_per_op);
+  }
+  char buf[768];
   std::snprintf(buf, sizeof buf,
                 "{\"name\":\"%s\",\"layer\":\"%s\",\"metric\":\"%s\",\"transport\":\"%s\","
                 "\"processes\":%d,\"unit\":\"us\",\"count\":%zu,\"timeouts\":%zu,"
-                "\"min\":%.1f,\"mean\":%.1f,\"p50\":%.1f,\"p90\":%.1f,\"p99\":%.1f,\"max\":%.1f}",
+                "\"min\":%.1f,\"mean\":%.1f,\"p50\":%.1f,\"p90\":%.1f,\"p99\":%.1f,"
+                "\"p999\":%.1f,\"max\":%.1f,\"cpu_us_per_op\":%s}",
                 series.name.c_str(), series.layer.c_str(), series.metric.c_str(),
                 series.transport.c_str(), series.processes, s.count, series.timeouts, s.min, s.mean,
-                s.p50, s.p90, s.p99, s.max);
+                s.p50, s.p90, s.p99, s.p999, s.max, cpu);
   return buf;
 }
 

@@ -2,14 +2,16 @@
 // transition and handshake latencies, measured in one run on one machine.
 // Prints one JSON object on stdout (and to --out FILE); progress on stderr.
 //
-// Domain ids 100-106 (benchmarks and the cell own 100-119; the cell runs on
-// 110, its tests on 111-113).
+// Domain ids 100-106 and, for Cyclone's ddsperf, 115 (benchmarks and the
+// cell own 100-119; the cell runs on 110, its tests on 111-113).
 // Must run inside the loopback-only namespace: benchmarks/run.sh does that.
+#include <fcntl.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -21,10 +23,14 @@
 #include <thread>
 #include <vector>
 
+#include "cyclone_pingpong.hpp"
 #include "equipment_latency.hpp"
 #include "mtc/bench/cli.hpp"
 #include "mtc/qos/participant.hpp"
+#include "proc_cpu.hpp"
+#include "ratios.hpp"
 #include "raw_pingpong.hpp"
+#include "udp_pingpong.hpp"
 
 namespace {
 
@@ -46,25 +52,35 @@ struct Options {
   // others, and the samples pooled: a noisy spell of a shared VM then
   // spreads over all series instead of skewing the one that ran during it.
   int rounds = 3;
+  int cyclone_seconds = 3;
   std::string out;
+  std::string samples_out;
   bool raw = true;
   bool equipment = true;
   bool peer = false;            // internal: this process is the forked ponger
   bool equipment_peer = false;  // internal: the forked responder equipment
+  bool listener = false;        // internal: the ponger echoes from its listener
+  bool both_ends = false;       // internal: a one-process raw series, printed
+  int udp_peer_fd = -1;         // internal: be the UDP echo on this socket
+  int round = 1;                // internal: the equipment peer's round
   Transport transport = Transport::UdpLoopback;
   int domain = 100;
 };
 
 constexpr const char* kAbout =
-    "Raw Fast DDS round trips beside the project's own transition and handshake\n"
-    "latencies, measured in one run on one machine: each series with both ends in one\n"
-    "process and with the peer in a second process (this executable started again),\n"
-    "over UDP loopback and over SHM+UDP; every series in --rounds rounds interleaved\n"
-    "with the others, samples pooled. DDS domains 100-106: runs inside the\n"
-    "loopback-only namespace (benchmarks/run.sh does that). Progress on stderr; one\n"
-    "JSON object on stdout and, with --out, in FILE:\n"
-    "  {\"benchmark\":\"dds_latency\",\"unit\":\"us\",...,\n"
-    "   \"series\":[{name,p50,p90,p99,max,...},...]}\n"
+    "The project's transition and handshake latencies beside their baselines, measured\n"
+    "in one run on one machine: a raw UDP ping-pong (2 processes, blocking sockets),\n"
+    "raw Fast DDS round trips (WaitSet, 1 and 2 processes; echo from the listener, 2\n"
+    "processes), Cyclone DDS's round trip (ddsperf ping/pong, when installed), each\n"
+    "over UDP loopback and over SHM+UDP where it applies; every series in --rounds\n"
+    "rounds interleaved with the others, samples pooled. Every figure also as a ratio\n"
+    "to the Fast DDS listener round trip and to the UDP round trip; CPU time per\n"
+    "operation (all processes) and the load average. DDS domains 100-106 and 115:\n"
+    "runs inside the loopback-only namespace (benchmarks/run.sh does that). Progress\n"
+    "on stderr; one JSON object on stdout and, with --out, in FILE:\n"
+    "  {\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"load_average\":...,\n"
+    "   \"series\":[{name,p50,p90,p99,p999,max,cpu_us_per_op,...},...],\n"
+    "   \"cyclone\":{...},\"ratios\":[...],\"targets\":{...}}\n"
     "(benchmarks/run.sh: bench-results/dds_latency.json, plotted to dds_latency.png).";
 
 // Usage errors -> exit code; nullopt to run.
@@ -79,11 +95,20 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .integer("--handshakes", o.handshakes, 1, 10000000,
                "handshakes per equipment series, split over the\nrounds")
       .integer("--rounds", o.rounds, 1, 1000, "rounds the series are interleaved in")
+      .integer("--cyclone-seconds", o.cyclone_seconds, 0, 3600,
+               "seconds of ddsperf ping, plus 2 for its start-up\n(0: no Cyclone baseline)")
       .choice("--only", only, {"raw", "equipment"}, "measure only these series (default both)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE (default stdout only)")
+      .text("--samples-out", "FILE", o.samples_out,
+            "write every series' samples, sorted, to FILE as\n{\"name\":[us,...],...} (for CDF "
+            "plots)")
       .internal_options_follow()
       .flag("--peer", o.peer, "be the raw ping-pong peer")
       .flag("--equipment-peer", o.equipment_peer, "be the responder equipment peer")
+      .flag("--listener", o.listener, "echo from the reader's listener")
+      .flag("--both-ends", o.both_ends, "run a one-process raw series and print it")
+      .integer("--udp-peer-fd", o.udp_peer_fd, 0, 65535, "be the UDP echo on this socket")
+      .integer("--round", o.round, 1, 1000, "the equipment peer's round (its device names)")
       .choice("--transport", transport, {"udp_loopback", "shm_udp", "udp", "shm"},
               "the peer's transport")
       .integer("--domain", o.domain, 0, 232, "the peer's DDS domain");
@@ -108,6 +133,7 @@ int run_peer(const Options& o) {
   PingPongOptions po;
   po.domain_id = o.domain;
   po.transport = o.transport;
+  po.listener = o.listener;
   try {
     mtc::bench::run_ponger(po, g_peer_stop);
   } catch (const std::exception& e) {
@@ -119,7 +145,7 @@ int run_peer(const Options& o) {
 
 // Starts this executable again as the ponger peer (fork + exec: a forked copy
 // of a process that already runs Fast DDS threads would be unsafe).
-pid_t spawn_peer(Transport t, int domain) {
+pid_t spawn_peer(Transport t, int domain, bool listener) {
   const std::string transport = mtc::bench::to_string(t);
   const std::string dom = std::to_string(domain);
   const pid_t pid = fork();
@@ -128,45 +154,125 @@ pid_t spawn_peer(Transport t, int domain) {
   }
   if (pid == 0) {
     execl("/proc/self/exe", "mtc-bench-dds-latency", "--peer", "--transport", transport.c_str(),
-          "--domain", dom.c_str(), static_cast<char*>(nullptr));
+          "--domain", dom.c_str(), listener ? "--listener" : static_cast<char*>(nullptr),
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   return pid;
 }
 
-Series run_raw(const Options& o, Transport t, int processes, int domain) {
+// Both ends of a raw series in one process: the ponger on a thread, the
+// pinger here. Raw endpoints of one process talk intra-process, as Fast DDS
+// does by default: this switches the process-wide setting on, which is why
+// the benchmark runs it in a child of its own (--both-ends) and never next
+// to the mtc series (the runtime switches it off for its participants).
+Series run_both_ends_here(const PingPongOptions& po) {
+  mtc::qos::set_intraprocess_delivery(true);
+  std::atomic<bool> stop{false};
+  std::thread ponger([&] {
+    try {
+      mtc::bench::run_ponger(po, stop);
+    } catch (const std::exception& e) {
+      std::cerr << "ponger: " << e.what() << "\n";
+    }
+  });
+  Series s;
+  try {
+    s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
+  } catch (...) {
+    stop.store(true);
+    ponger.join();
+    throw;
+  }
+  stop.store(true);
+  ponger.join();
+  return s;
+}
+
+// --both-ends: the series above, printed for the parent: "timeouts cpu"
+// on the first line, then one sample (us) per line.
+int print_both_ends(const Options& o) {
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  PingPongOptions po;
+  po.domain_id = o.domain;
+  po.transport = o.transport;
+  po.samples = o.samples;
+  po.warmup = o.warmup;
+  const Series s = run_both_ends_here(po);
+  std::cout << s.timeouts << " " << s.cpu_us_per_op << "\n";
+  for (double v : s.samples_us) {
+    std::cout << v << "\n";
+  }
+  return std::cout.good() ? 0 : 1;
+}
+
+Series run_both_ends_in_child(const Options& o, Transport t, int domain) {
+  const std::vector<std::string> args = {"mtc-bench-dds-latency",
+                                         "--both-ends",
+                                         "--transport",
+                                         mtc::bench::to_string(t),
+                                         "--domain",
+                                         std::to_string(domain),
+                                         "--samples",
+                                         std::to_string(o.samples),
+                                         "--warmup",
+                                         std::to_string(o.warmup)};
+  std::vector<char*> argv;
+  for (const auto& a : args) {
+    argv.push_back(const_cast<char*>(a.c_str()));
+  }
+  argv.push_back(nullptr);
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) {
+    throw std::runtime_error("pipe failed");
+  }
+  const pid_t pid = fork();
+  if (pid < 0) {
+    throw std::runtime_error("fork failed");
+  }
+  if (pid == 0) {
+    dup2(fds[1], STDOUT_FILENO);
+    execv("/proc/self/exe", argv.data());
+    _exit(127);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[4096];
+  for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) {
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    throw std::runtime_error("one-process raw series failed (status " + std::to_string(status) +
+                             ")");
+  }
+  std::istringstream in(text);
+  Series s;
+  in >> s.timeouts >> s.cpu_us_per_op;
+  for (double v; in >> v;) {
+    s.samples_us.push_back(v);
+  }
+  return s;
+}
+
+Series run_raw(const Options& o, Transport t, int processes, int domain, bool listener = false) {
   PingPongOptions po;
   po.domain_id = domain;
   po.transport = t;
   po.samples = o.samples;
   po.warmup = o.warmup;
-  std::cerr << "raw fast dds round trip: " << mtc::bench::to_string(t) << ", " << processes
-            << " process(es), " << o.samples << " samples\n";
+  po.listener = listener;
+  std::cerr << "raw fast dds round trip" << (listener ? " (listener echo): " : ": ")
+            << mtc::bench::to_string(t) << ", " << processes << " process(es), " << o.samples
+            << " samples\n";
   Series s;
   if (processes == 1) {
-    // Raw endpoints of one process talk intra-process, as Fast DDS does by
-    // default; an mtc series of the same run has turned it off (the
-    // runtime does, see mtc::dds::detail::deliver_through_transports).
-    mtc::qos::set_intraprocess_delivery(true);
-    std::atomic<bool> stop{false};
-    std::thread ponger([&] {
-      try {
-        mtc::bench::run_ponger(po, stop);
-      } catch (const std::exception& e) {
-        std::cerr << "ponger: " << e.what() << "\n";
-      }
-    });
-    try {
-      s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
-    } catch (...) {
-      stop.store(true);
-      ponger.join();
-      throw;
-    }
-    stop.store(true);
-    ponger.join();
+    s = run_both_ends_in_child(o, t, domain);
   } else {
-    const pid_t peer = spawn_peer(t, domain);
+    const pid_t peer = spawn_peer(t, domain, listener);
+    po.peer = peer;
     try {
       s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
     } catch (...) {
@@ -179,31 +285,59 @@ Series run_raw(const Options& o, Transport t, int processes, int domain) {
     waitpid(peer, &status, 0);
   }
   s.processes = processes;
-  s.name = "raw_fastdds_round_trip_" + mtc::bench::to_string(t) + "_" + std::to_string(processes) +
-           "proc";
+  s.name = std::string(listener ? "raw_fastdds_listener_round_trip_" : "raw_fastdds_round_trip_") +
+           mtc::bench::to_string(t) + "_" + std::to_string(processes) + "proc";
   return s;
 }
 
-std::string to_json(const Options& o, const std::vector<Series>& all) {
+std::string load_json(const std::array<double, 3>& load) {
+  std::ostringstream json;
+  json << "[" << load[0] << "," << load[1] << "," << load[2] << "]";
+  return json.str();
+}
+
+struct RunContext {
+  std::array<double, 3> load_start{};
+  std::array<double, 3> load_end{};
+  std::optional<mtc::bench::CycloneResult> cyclone;
+  std::string cyclone_why;
+};
+
+std::string to_json(const Options& o, const std::vector<Series>& all, const RunContext& run) {
+  std::optional<mtc::bench::Reference> cyclone;
+  if (run.cyclone) {
+    cyclone = mtc::bench::Reference{
+        mtc::bench::cyclone_median(*run.cyclone, &mtc::bench::CycloneSecond::p50),
+        mtc::bench::cyclone_median(*run.cyclone, &mtc::bench::CycloneSecond::p99)};
+  }
   std::ostringstream json;
   json << "{\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"cores\":"
        << std::thread::hardware_concurrency() << ",\"samples\":" << o.samples
        << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds
+       << ",\"load_average_start\":" << load_json(run.load_start)
+       << ",\"load_average_end\":" << load_json(run.load_end)
+       << ",\"cpu_note\":\"cpu_us_per_op: user+system CPU of every process taking part "
+          "(both ends), per timed round trip or handshake\""
        << ",\"qos\":\"mtc.state preset: RELIABLE, TRANSIENT_LOCAL, KEEP_LAST 1, no deadline "
           "(liveness is the heartbeat topic's); keyed InteractionSample\",\"series\":[";
   for (std::size_t i = 0; i < all.size(); ++i) {
     json << (i == 0 ? "\n  " : ",\n  ") << mtc::bench::to_json(all[i]);
   }
-  json << "\n]}\n";
+  json << "\n],\n\"cyclone\":" << mtc::bench::cyclone_json(run.cyclone, run.cyclone_why)
+       << ",\n\"ratios\":" << mtc::bench::ratios_json(all, cyclone)
+       << ",\n\"targets\":" << mtc::bench::targets_json(all) << "}\n";
   return json.str();
 }
 
 // One round of every series, each with its share of the samples.
-std::vector<Series> run_round(const Options& o) {
+std::vector<Series> run_round(const Options& o, int round_number) {
   Options share = o;
   share.samples = std::max(1, o.samples / o.rounds);
   std::vector<Series> round;
   if (o.raw) {
+    round.push_back(mtc::bench::run_udp_round_trips("/proc/self/exe", share.warmup, share.samples));
+    round.push_back(run_raw(share, Transport::UdpLoopback, 2, 102, true));
+    round.push_back(run_raw(share, Transport::ShmUdp, 2, 103, true));
     round.push_back(run_raw(share, Transport::UdpLoopback, 1, 100));
     round.push_back(run_raw(share, Transport::ShmUdp, 1, 101));
     round.push_back(run_raw(share, Transport::UdpLoopback, 2, 102));
@@ -212,6 +346,7 @@ std::vector<Series> run_round(const Options& o) {
   if (o.equipment) {
     mtc::bench::EquipmentBenchOptions eo;
     eo.first_domain_id = 104;  // 104-106
+    eo.round = round_number;
     eo.handshakes = std::max(1, o.handshakes / o.rounds);
     for (auto& s : mtc::bench::run_equipment_series(eo)) {
       round.push_back(std::move(s));
@@ -220,22 +355,64 @@ std::vector<Series> run_round(const Options& o) {
   return round;
 }
 
+// {"name":[sorted samples in us],...}: what a CDF is drawn from.
+bool write_samples(const std::string& path, const std::vector<Series>& all) {
+  std::ofstream file(path);
+  file << "{";
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    std::vector<double> sorted = all[i].samples_us;
+    std::sort(sorted.begin(), sorted.end());
+    file << (i == 0 ? "\n" : ",\n") << "\"" << all[i].name << "\":[";
+    for (std::size_t k = 0; k < sorted.size(); ++k) {
+      file << (k == 0 ? "" : ",") << static_cast<long long>(sorted[k] * 10) / 10.0;
+    }
+    file << "]";
+  }
+  file << "\n}\n";
+  return static_cast<bool>(file);
+}
+
+// Pools a round's samples into the series of the earlier rounds; the CPU
+// per operation becomes the mean weighted by sample count.
+void pool(Series& into, const Series& more) {
+  const auto before = static_cast<double>(into.samples_us.size());
+  const auto added = static_cast<double>(more.samples_us.size());
+  if (into.cpu_us_per_op >= 0 && more.cpu_us_per_op >= 0 && before + added > 0) {
+    into.cpu_us_per_op =
+        (into.cpu_us_per_op * before + more.cpu_us_per_op * added) / (before + added);
+  }
+  into.samples_us.insert(into.samples_us.end(), more.samples_us.begin(), more.samples_us.end());
+  into.timeouts += more.timeouts;
+}
+
 int run(const Options& o) {
+  RunContext context;
+  context.load_start = mtc::bench::load_average();
   std::vector<Series> all;
+  if (o.raw && o.cyclone_seconds > 0) {
+    std::cerr << "cyclone dds round trip: ddsperf ping/pong, " << o.cyclone_seconds << " s\n";
+    context.cyclone =
+        mtc::bench::run_cyclone_round_trips(115, o.cyclone_seconds, context.cyclone_why);
+  } else {
+    context.cyclone_why = "not measured (--cyclone-seconds 0 or --only equipment)";
+  }
   for (int r = 0; r < o.rounds; ++r) {
     std::cerr << "-- round " << (r + 1) << " of " << o.rounds << "\n";
-    std::vector<Series> round = run_round(o);
+    std::vector<Series> round = run_round(o, r + 1);
     if (all.empty()) {
       all = std::move(round);
       continue;
     }
     for (std::size_t i = 0; i < all.size() && i < round.size(); ++i) {
-      auto& into = all[i].samples_us;
-      into.insert(into.end(), round[i].samples_us.begin(), round[i].samples_us.end());
-      all[i].timeouts += round[i].timeouts;
+      pool(all[i], round[i]);
     }
   }
-  const std::string json = to_json(o, all);
+  context.load_end = mtc::bench::load_average();
+  if (!o.samples_out.empty() && !write_samples(o.samples_out, all)) {
+    std::cerr << "cannot write " << o.samples_out << "\n";
+    return 1;
+  }
+  const std::string json = to_json(o, all, context);
   std::cout << json;
   if (!o.out.empty()) {
     std::ofstream file(o.out);
@@ -256,8 +433,15 @@ int main(int argc, char** argv) {
     return *exit_code;
   }
   try {
+    if (o.both_ends) {
+      return print_both_ends(o);
+    }
+    if (o.udp_peer_fd >= 0) {
+      return mtc::bench::run_udp_echo(o.udp_peer_fd);
+    }
     if (o.equipment_peer) {
-      return mtc::bench::run_equipment_peer(o.domain, o.transport == Transport::UdpLoopback);
+      return mtc::bench::run_equipment_peer(o.domain, o.transport == Transport::UdpLoopback,
+                                            o.round);
     }
     return o.peer ? run_peer(o) : run(o);
   } catch (const std::exception& e) {

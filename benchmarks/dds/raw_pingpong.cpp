@@ -1,5 +1,6 @@
 #include "raw_pingpong.hpp"
 
+#include <condition_variable>
 #include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -7,11 +8,13 @@
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <thread>
 
@@ -19,6 +22,7 @@
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
+#include "proc_cpu.hpp"
 
 namespace mtc::bench {
 namespace {
@@ -50,8 +54,10 @@ class QuietWriterListener : public fdds::DataWriterListener {};
 // Owns every entity; the destructor tears them down in DDS order.
 class Endpoint {
  public:
+  // With a `listener`, data is taken on Fast DDS's receive thread and the
+  // WaitSet stays unused.
   Endpoint(const PingPongOptions& options, const char* name, const char* write_topic,
-           const char* read_topic) {
+           const char* read_topic, fdds::DataReaderListener* listener = nullptr) {
     // The project's own presets: the participant QoS of its loopback
     // transports and the QoS of its state topics (RELIABLE, TRANSIENT_LOCAL,
     // KEEP_LAST 1, changes only; see mtc/qos/presets.hpp).
@@ -80,7 +86,9 @@ class Endpoint {
     check(writer_ != nullptr, "writer");
 
     const fdds::DataReaderQos rqos = preset.reader_qos();
-    reader_ = sub->create_datareader(rtopic, rqos);
+    reader_ = listener == nullptr ? sub->create_datareader(rtopic, rqos)
+                                  : sub->create_datareader(rtopic, rqos, listener,
+                                                           fdds::StatusMask::data_available());
     check(reader_ != nullptr, "reader");
 
     reader_->get_statuscondition().set_enabled_statuses(fdds::StatusMask::data_available());
@@ -88,6 +96,7 @@ class Endpoint {
   }
 
   ~Endpoint() {
+    reader_->set_listener(nullptr);
     waitset_.detach_condition(reader_->get_statuscondition());
     participant_->delete_contained_entities();
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
@@ -105,9 +114,11 @@ class Endpoint {
            ReturnCode_t::RETCODE_OK;
   }
 
-  bool take(mtc::idl::InteractionSample& sample) {
+  bool take(mtc::idl::InteractionSample& sample) { return take_from(reader_, sample); }
+
+  static bool take_from(fdds::DataReader* reader, mtc::idl::InteractionSample& sample) {
     fdds::SampleInfo info;
-    while (reader_->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
+    while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
       if (info.valid_data) {
         return true;
       }
@@ -149,6 +160,110 @@ mtc::idl::InteractionSample make_sample(const char* device) {
   return s;
 }
 
+// Discovery has no event we could wait on through this API without a
+// listener; a short poll is fine here, it is outside the timed section.
+void wait_matched(const Endpoint& ep, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!ep.matched()) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      throw std::runtime_error("pinger: ponger not discovered in time");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+// The ponger's echo, written on the receive thread that delivered the ping.
+class EchoListener : public fdds::DataReaderListener {
+ public:
+  void attach(Endpoint* endpoint) { endpoint_ = endpoint; }
+
+  void on_data_available(fdds::DataReader* reader) override {
+    mtc::idl::InteractionSample sample;
+    while (Endpoint::take_from(reader, sample)) {
+      sample.device_uuid("bench-pong");
+      endpoint_->write(sample);
+    }
+  }
+
+ private:
+  Endpoint* endpoint_ = nullptr;
+};
+
+// The pinger's side of the listener ping-pong: each echo is timed and the
+// next ping written on the receive thread; the benchmark thread only waits
+// for the end (or for a stall, when it sends the next ping itself).
+class PingListener : public fdds::DataReaderListener {
+ public:
+  PingListener(int warmup, int samples) : warmup_(warmup), total_(warmup + samples) {
+    ping_ = make_sample("bench-ping");
+  }
+
+  void attach(Endpoint* endpoint) { endpoint_ = endpoint; }
+
+  void on_data_available(fdds::DataReader* reader) override {
+    mtc::idl::InteractionSample echo;
+    while (Endpoint::take_from(reader, echo)) {
+      const auto now = std::chrono::steady_clock::now();
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (echo.sequence_number() != ping_.sequence_number()) {
+        continue;  // the echo of a ping already given up on
+      }
+      if (sent_ > warmup_) {
+        samples_us_.push_back(to_us(now - sent_at_));
+      }
+      send_next_locked();
+    }
+  }
+
+  // Runs the whole series; returns the samples and the count of pings that
+  // got no echo within `reply_timeout`.
+  std::vector<double> run(std::chrono::milliseconds reply_timeout, std::size_t& timeouts) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    send_next_locked();
+    while (sent_ <= total_) {
+      const int before = sent_;
+      if (!done_.wait_for(lock, reply_timeout, [&] { return sent_ != before; })) {
+        ++timeouts;  // lost or late: go on with the next ping
+        send_next_locked();
+      }
+    }
+    return std::move(samples_us_);
+  }
+
+ private:
+  void send_next_locked() {
+    if (sent_ >= total_) {
+      ++sent_;  // past the last: run() returns
+      done_.notify_all();
+      return;
+    }
+    ++sent_;
+    ping_.sequence_number(static_cast<unsigned long long>(sent_));
+    sent_at_ = std::chrono::steady_clock::now();
+    endpoint_->write(ping_);
+    done_.notify_all();
+  }
+
+  const int warmup_;
+  const int total_;
+  Endpoint* endpoint_ = nullptr;
+  std::mutex mutex_;
+  std::condition_variable done_;
+  mtc::idl::InteractionSample ping_;
+  int sent_ = 0;
+  std::chrono::steady_clock::time_point sent_at_;
+  std::vector<double> samples_us_;
+};
+
+Series make_series(const PingPongOptions& options) {
+  Series series;
+  series.layer = options.listener ? "raw_fastdds_listener" : "raw_fastdds";
+  series.metric = "round_trip";
+  series.transport = to_string(options.transport);
+  series.samples_us.reserve(static_cast<std::size_t>(options.samples));
+  return series;
+}
+
 }  // namespace
 
 std::string to_string(Transport t) {
@@ -167,6 +282,15 @@ bool parse_transport(const std::string& text, Transport& out) {
 }
 
 void run_ponger(const PingPongOptions& options, const std::atomic<bool>& stop) {
+  if (options.listener) {
+    EchoListener echo;
+    Endpoint ep(options, "mtc_bench_ponger", kPongTopic, kPingTopic, &echo);
+    echo.attach(&ep);
+    while (!stop.load()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the receive thread echoes
+    }
+    return;
+  }
   Endpoint ep(options, "mtc_bench_ponger", kPongTopic, kPingTopic);
   mtc::idl::InteractionSample sample;
   while (!stop.load()) {
@@ -181,28 +305,32 @@ void run_ponger(const PingPongOptions& options, const std::atomic<bool>& stop) {
 }
 
 Series run_pinger(const PingPongOptions& options, std::chrono::milliseconds match_timeout) {
-  Endpoint ep(options, "mtc_bench_pinger", kPingTopic, kPongTopic);
-  // Discovery has no event we could wait on through this API without a
-  // listener; a short poll is fine here, it is outside the timed section.
-  const auto match_deadline = std::chrono::steady_clock::now() + match_timeout;
-  while (!ep.matched()) {
-    if (std::chrono::steady_clock::now() > match_deadline) {
-      throw std::runtime_error("pinger: ponger not discovered in time");
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  Series series = make_series(options);
+  if (options.listener) {
+    PingListener pinger(options.warmup, options.samples);
+    Endpoint ep(options, "mtc_bench_pinger", kPingTopic, kPongTopic, &pinger);
+    pinger.attach(&ep);
+    wait_matched(ep, match_timeout);
+    // The warm-up's CPU is counted too: it is a small share of the run and
+    // the receive thread gives no cheaper point to start the count.
+    const double cpu0 = cpu_seconds_both(options.peer);
+    series.samples_us = pinger.run(options.reply_timeout, series.timeouts);
+    const double cpu1 = cpu_seconds_both(options.peer);
+    series.cpu_us_per_op = (cpu1 - cpu0) * 1e6 / (options.warmup + options.samples);
+    return series;
   }
-
-  Series series;
-  series.layer = "raw_fastdds";
-  series.metric = "round_trip";
-  series.transport = to_string(options.transport);
-  series.samples_us.reserve(static_cast<std::size_t>(options.samples));
+  Endpoint ep(options, "mtc_bench_pinger", kPingTopic, kPongTopic);
+  wait_matched(ep, match_timeout);
+  double cpu0 = 0;
   mtc::idl::InteractionSample ping = make_sample("bench-ping");
   mtc::idl::InteractionSample echo;
   const int total = options.warmup + options.samples;
   for (int i = 0; i < total; ++i) {
     const auto seq = static_cast<unsigned long long>(i) + 1;
     ping.sequence_number(seq);
+    if (i == options.warmup) {
+      cpu0 = cpu_seconds_both(options.peer);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     ep.write(ping);
     bool answered = false;
@@ -225,6 +353,7 @@ Series run_pinger(const PingPongOptions& options, std::chrono::milliseconds matc
       ++series.timeouts;
     }
   }
+  series.cpu_us_per_op = (cpu_seconds_both(options.peer) - cpu0) * 1e6 / options.samples;
   return series;
 }
 

@@ -8,6 +8,8 @@
 // mtc::qos, so both sides of the comparison use the same preset.
 #pragma once
 
+#include <sys/types.h>
+
 #include <atomic>
 #include <chrono>
 #include <string>
@@ -27,6 +29,12 @@ struct PingPongOptions {
   int warmup = 200;
   int samples = 2000;
   std::chrono::milliseconds reply_timeout{2000};
+  // true: every echo, and the pinger's next ping, is written from the
+  // reader's listener on Fast DDS's receive thread (the fastest ping-pong
+  // the library offers); false: an application thread waits on a WaitSet.
+  bool listener = false;
+  // The ponger's process, when it is another one: its CPU time is counted.
+  pid_t peer = 0;
 };
 
 // Echoes every ping back on the pong topic until `stop` becomes true.

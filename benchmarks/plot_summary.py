@@ -1,0 +1,133 @@
+#!/usr/bin/env python3
+"""Draws the plots of benchmarks/run.sh with gnuplot: the latency CDFs per
+transport (from mtc-bench-dds-latency --samples-out) and the scaling curve
+(from mtc-bench-scale). Standard library only; prints the files it wrote and
+skips (with a note) what it has no data or no gnuplot for.
+
+Usage: plot_summary.py RESULTS_DIR
+"""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+LABELS = {
+    "udp_round_trip_2proc": "raw UDP RTT",
+    "raw_fastdds_listener_round_trip": "Fast DDS RTT, listener echo",
+    "raw_fastdds_round_trip": "Fast DDS RTT, WaitSet",
+    "mtc_transition": "mtc transition (one way)",
+    "mtc_handshake": "mtc handshake",
+}
+
+
+def label(name):
+    for prefix, text in LABELS.items():
+        if name.startswith(prefix):
+            procs = "1 proc" if name.endswith("_1proc") else "2 proc"
+            return "%s, %s" % (text, procs)
+    return name
+
+
+def terminal():
+    out = subprocess.run(["gnuplot", "-e", "set terminal"], capture_output=True, text=True)
+    if "pngcairo" in out.stdout + out.stderr:
+        return 'set terminal pngcairo size 1100,650 font "sans,11"\n'
+    return "set terminal png size 1100,650\n"
+
+
+def gnuplot(script_path, script):
+    with open(script_path, "w") as f:
+        f.write(script)
+    subprocess.run(["gnuplot", script_path], check=True)
+
+
+def plot_cdfs(results, samples, cyclone):
+    written = []
+    for transport, title in (("shm_udp", "SHM+UDP"), ("udp_loopback", "UDP loopback")):
+        names = [n for n in samples if samples[n] and
+                 (transport in n or (transport == "udp_loopback" and n.startswith("udp_")))]
+        if not names:
+            continue
+        plots = []
+        for n in names:
+            dat = os.path.join(results, "cdf_%s.dat" % n)
+            values = samples[n]
+            with open(dat, "w") as f:
+                for i, v in enumerate(values):
+                    f.write("%s %.5f\n" % (v, (i + 1) / len(values)))
+            plots.append('"%s" using 1:2 with lines lw 2 title "%s"' % (dat, label(n)))
+        if transport == "udp_loopback" and cyclone and cyclone.get("available"):
+            dat = os.path.join(results, "cdf_cyclone.dat")
+            with open(dat, "w") as f:
+                for key, frac in (("p50", 0.5), ("p90", 0.9), ("p99", 0.99)):
+                    f.write("%s %s\n" % (cyclone[key], frac))
+            plots.append('"%s" using 1:2 with linespoints pt 7 title '
+                         '"Cyclone RTT (ddsperf p50/p90/p99)"' % dat)
+        stem = os.path.join(results, "latency_cdf_%s" % transport)
+        gnuplot(stem + ".gp", terminal() +
+                'set output "%s.png"\n' % stem +
+                'set title "Latency CDF, %s, one run (x log scale)"\n' % title +
+                'set xlabel "microseconds"\nset ylabel "fraction of samples"\n'
+                "set logscale x\nset grid\nset key bottom right\nset yrange [0:1]\n"
+                "plot " + ", ".join(plots) + "\n")
+        written.append(stem + ".png")
+    return written
+
+
+def plot_scale(results, scale):
+    levels = scale.get("levels") or []
+    if not levels:
+        return []
+    dat = os.path.join(results, "scale.dat")
+    with open(dat, "w") as f:
+        f.write("# pairs handshakes_per_s p50_ms p99_ms\n")
+        for l in levels:
+            f.write("%s %s %s %s\n" % (l["pairs"], l["handshakes_per_s"], l["p50"] / 1000,
+                                      l["p99"] / 1000))
+    stem = os.path.join(results, "scaling")
+    gnuplot(stem + ".gp", terminal() +
+            'set output "%s.png"\n' % stem +
+            'set title "Concurrent interface pairs between two processes (SHM+UDP)"\n'
+            'set xlabel "interface pairs handshaking at once"\nset logscale x\n'
+            'set ylabel "handshakes per second"\nset y2label "latency (ms, log scale)"\n'
+            "set ytics nomirror\nset y2tics\nset grid\nset key top left\n"
+            "set yrange [0:*]\nset logscale y2\n"
+            'plot "%s" using 1:2 with linespoints lw 2 pt 7 title "handshakes/s", '
+            '"%s" using 1:3 axes x1y2 with linespoints lw 2 title "p50 (ms)", '
+            '"%s" using 1:4 axes x1y2 with linespoints lw 2 title "p99 (ms)", '
+            '5000 with lines dt 2 title "target at 100 pairs: 5,000/s"\n' % (dat, dat, dat))
+    return [stem + ".png"]
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("results", help="the directory run.sh wrote the JSON files to")
+    results = parser.parse_args().results
+    if not shutil.which("gnuplot"):
+        print("plot_summary.py: gnuplot not installed, no plots", file=sys.stderr)
+        return 0
+    written = []
+    samples = load(os.path.join(results, "dds_latency_samples.json"))
+    latency = load(os.path.join(results, "dds_latency.json")) or {}
+    if samples:
+        written += plot_cdfs(results, samples, latency.get("cyclone"))
+    scale = load(os.path.join(results, "scale.json"))
+    if scale:
+        written += plot_scale(results, scale)
+    for path in written:
+        print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
