@@ -268,8 +268,16 @@ void Equipment::start() {
   if (impl_->interfaces.empty()) {
     throw ConfigError("Equipment " + impl_->options.device_uuid + ": no interface declared");
   }
-  impl_->create_entities();
+  // Callbacks run on the executor as soon as create_entities() has started
+  // it (the pairing with a configured counterpart, the first samples) and
+  // may call this Equipment back, so it counts as started from here on.
   impl_->started = true;
+  try {
+    impl_->create_entities();
+  } catch (...) {
+    impl_->started = false;
+    throw;
+  }
 }
 
 std::future<void> Equipment::set_interface_state(const std::string& interface_id,
