@@ -142,6 +142,8 @@ TEST(Equipment, Scenario1ResponderFailsImmediately) {
   EXPECT_EQ(req.state(), InteractionState::Fail);
   // Both acknowledge each other's FAIL; recovery is the application's.
   ASSERT_TRUE(cell.cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Fail; }));
+  ASSERT_TRUE(
+      cell.robot_rec.wait([&] { return resp.counterpart_state() == InteractionState::Fail; }));
   EXPECT_EQ(req.recover().get().current, InteractionState::Ready);
   EXPECT_EQ(resp.recover().get().current, InteractionState::Ready);
   EXPECT_TRUE(
