@@ -31,6 +31,7 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <string>
 
 #include "mtc/dds/equipment.hpp"
@@ -201,6 +202,15 @@ int run_responder(dds::Equipment& eq, Hold& hold) {
   return 0;
 }
 
+// TEXT as a whole decimal number from LOW to HIGH, else nothing: atoi would
+// turn a typo into 0, a valid domain and "no hold".
+std::optional<int> number_in(const char* text, long low, long high) {
+  char* end = nullptr;
+  const long value = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || value < low || value > high) return std::nullopt;
+  return static_cast<int>(value);
+}
+
 int usage(std::ostream& out, int code) {
   out << "usage: mtc-test-step-party requester|responder DOMAIN DEVICE COUNTERPART HOLD GO_FIFO\n"
          "  One side of MATERIAL_LOAD over the Network transport, holding at Table 1\n"
@@ -216,8 +226,9 @@ int main(int argc, char** argv) {
   const std::string role = argv[1];
   if (role != "requester" && role != "responder") return usage(std::cerr, 2);
   const bool requester = role == "requester";
-  const int point = std::atoi(argv[5]);
-  if (point < 0 || point > 8) return usage(std::cerr, 2);
+  const auto domain = number_in(argv[2], 0, 232);
+  const auto point = number_in(argv[5], 0, 8);
+  if (!domain || !point) return usage(std::cerr, 2);
   prctl(PR_SET_PDEATHSIG, SIGKILL);  // dies with the test that started it
   // Signals go to sigwait (responder) rather than killing the process.
   sigset_t set;
@@ -227,8 +238,8 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
 
   Watch watch;
-  Hold hold(point, argv[6]);
-  dds::Equipment eq(options(std::atoi(argv[2]), argv[3]), callbacks(watch, hold, requester));
+  Hold hold(*point, argv[6]);
+  dds::Equipment eq(options(*domain, argv[3]), callbacks(watch, hold, requester));
   eq.add_interface({"mh", mtc::core::InterfaceType::MaterialHandler, "", {argv[4], "mh"}});
   if (requester) {
     eq.add_requester("mh", mtc::core::Service::MaterialLoad);
