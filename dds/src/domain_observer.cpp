@@ -336,7 +336,7 @@ struct DomainObserver::Impl {
   }
   // The observer requests no DEADLINE; a miss would be a cue, not a verdict.
   void handle(detail::DeadlineMissedEvent&) {}
-  void handle(detail::IncompatibleQosEvent& e) {
+  static void handle(detail::IncompatibleQosEvent& e) {
     std::cerr << "mtc::dds::DomainObserver: a writer on " << detail::topic_name(e.topic)
               << " offers QoS incompatible with the observer (policy id " << e.policy
               << "); is its liveliness lease longer than the observer's?\n";

@@ -97,7 +97,7 @@ bool complements(const EquipmentImpl& impl, const InterfaceSlot& itf,
   if (itf.services.empty()) return true;
   for (auto index : itf.services) {
     const auto& s = *impl.slots[index];
-    const auto wanted = s.role == core::Role::Requester ? "RESPONSE" : "REQUEST";
+    const auto* const wanted = s.role == core::Role::Requester ? "RESPONSE" : "REQUEST";
     for (const auto& item : other.data_items) {
       if (item.type == core::to_string(s.service) && item.sub_type == wanted) return true;
     }

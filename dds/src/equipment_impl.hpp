@@ -193,8 +193,9 @@ struct EquipmentImpl {
   // --- lifecycle (equipment.cpp) ---
   InterfaceSlot& interface_slot(const std::string& id) const;
   std::size_t add_slot(const std::string& interface_id, core::Service service, core::Role role,
-                       const ServiceOptions& options);
+                       const ServiceOptions& opts);
   void create_entities();
+  void group_by_timing();
   void create_group(std::size_t index);
   TimingGroup& group_of(const InterfaceSlot& itf) const { return *groups[itf.group]; }
   void shutdown() noexcept;
