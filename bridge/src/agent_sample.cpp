@@ -105,7 +105,7 @@ Routed AgentImpl::stream(const Query& q, bool is_sample) const {
   plan.is_sample = is_sample;
   plan.interval = std::chrono::milliseconds(*q.interval);
   plan.heartbeat = std::chrono::milliseconds(q.heartbeat.value());  // or the route's default
-  plan.parameters = q;
+  plan.parameters = static_cast<const RequestParameters&>(q);       // the parameters only
   if (is_sample) {
     std::uint64_t next = 0;
     Response first_part = sample(q, next);  // range checks of from/count

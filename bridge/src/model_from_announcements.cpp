@@ -34,10 +34,10 @@ class IdMaker {
     std::string id = text.empty() ? fallback : text;
     for (char& c : id) {
       const auto uc = static_cast<unsigned char>(c);
-      if (!std::isalnum(uc) && c != '_' && c != '-' && c != '.') c = '_';
+      if (std::isalnum(uc) == 0 && c != '_' && c != '-' && c != '.') c = '_';
     }
     const auto first = static_cast<unsigned char>(id.front());
-    if (!std::isalpha(first) && id.front() != '_') id.insert(0, "_");
+    if (std::isalpha(first) == 0 && id.front() != '_') id.insert(0, "_");
     std::string unique = id;
     for (int n = 2; !used_.insert(unique).second; ++n) unique = id + "_" + std::to_string(n);
     return unique;
@@ -94,7 +94,11 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
 
     auto qualified = [&](const std::string& id) {
       const auto it = uses.find(id);
-      return it != uses.end() && it->second > 1 ? dev_id + "_" + id : id;
+      if (it == uses.end() || it->second <= 1) return id;
+      std::string unique = dev_id;
+      unique += '_';
+      unique += id;
+      return unique;
     };
     pugi::xml_node interfaces;
     for (const core::ObservedInterface& itf : announced.interfaces) {
