@@ -36,9 +36,9 @@ TEST(AgentStreams, PartsWalkTheBufferInCountSizedChunks) {
   auto agent = test::announced_cell();
   const std::uint64_t start = agent->next_sequence();
   for (int i = 0; i < 7; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.material_load.req",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   Routed r = agent->route("GET", "/sample?interval=10&count=3&from=" + std::to_string(start) +
                                      "&path=//DataItem[@type='MATERIAL_LOAD']");
@@ -73,9 +73,9 @@ TEST(AgentStreams, StreamThatFellBehindGetsOutOfRange) {
   ASSERT_TRUE(r.stream);
   StreamPlan plan = *r.stream;
   for (int i = 0; i < 30; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.material_load.req",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   const Response p = agent->next_part(plan);
   EXPECT_EQ(p.status, 400);
@@ -129,9 +129,9 @@ TEST(AgentStreams, ConcurrentProducersAndReaders) {
     });
   }
   for (int i = 0; i < 5000; ++i) {
-    agent->add_value(value("mill-0001", "mill.open_door.rsp",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.open_door.rsp",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   stop = true;
   for (auto& t : readers) t.join();

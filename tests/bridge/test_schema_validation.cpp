@@ -42,15 +42,15 @@ class SchemaValidation : public ::testing::TestWithParam<SchemaVersion> {
         << "xmllint not found (Debian package libxml2-utils)";
     agent_ = test::announced_cell(GetParam(), 64);
     for (int i = 0; i < 80; ++i) {  // wraps the 64-entry buffer
-      agent_->add_value(
-          value("mill-0001", "mill.open_door.rsp",
-                i % 2 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
+      agent_->add_value(value(
+          "mill-0001", "mill.open_door.rsp",
+          i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
       agent_->add_value(value("mill-0001", "mill.door.door_state",
-                              i % 2 ? core::DoorState::Unlatched : core::DoorState::Closed,
+                              i % 2 != 0 ? core::DoorState::Unlatched : core::DoorState::Closed,
                               kT0 + i));
-      agent_->add_value(
-          value("mill-0001", "mill.door.state",
-                i % 2 ? core::InterfaceState::Enabled : core::InterfaceState::Disabled, kT0 + i));
+      agent_->add_value(value(
+          "mill-0001", "mill.door.state",
+          i % 2 != 0 ? core::InterfaceState::Enabled : core::InterfaceState::Disabled, kT0 + i));
     }
     agent_->add_value(
         value("robot-0001", "robot.material_load.rsp", core::InteractionState::Complete, kT0));

@@ -27,7 +27,13 @@
 namespace mtc::dds::testing {
 
 // Raw peers build their entities from the runtime's internals.
-using namespace mtc::dds::detail;
+namespace fdds = detail::fdds;
+namespace topics = detail::topics;
+using detail::HeartbeatWriter;
+using detail::Participant;
+using detail::Publisher;
+using detail::Topic;
+using detail::Writer;
 namespace {
 
 using core::InterfaceType;
@@ -50,6 +56,8 @@ class SilentHeartbeat {
     std::lock_guard<std::mutex> lock(mutex_);
     silent_ = true;
   }
+  SilentHeartbeat(const SilentHeartbeat&) = delete;
+  SilentHeartbeat& operator=(const SilentHeartbeat&) = delete;
   ~SilentHeartbeat() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
