@@ -61,6 +61,19 @@ std::map<std::string, int> count_ids(const std::vector<core::ObservedDevice>& de
   return uses;
 }
 
+// One announced data item as a DataItem element with id `xml_id`.
+void append_data_item(pugi::xml_node items, const core::ObservedDataItem& di,
+                      const std::string& xml_id) {
+  pugi::xml_node node = items.append_child("DataItem");
+  const bool known_category =
+      di.category == "SAMPLE" || di.category == "EVENT" || di.category == "CONDITION";
+  node.append_attribute("category") = known_category ? di.category.c_str() : "EVENT";
+  node.append_attribute("id") = xml_id.c_str();
+  if (!di.name.empty()) node.append_attribute("name") = di.name.c_str();
+  node.append_attribute("type") = di.type.c_str();
+  if (!di.sub_type.empty()) node.append_attribute("subType") = di.sub_type.c_str();
+}
+
 }  // namespace
 
 DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevice>& devices,
@@ -119,15 +132,8 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
         if (di.id.empty() || !is_data_item_type(di.type)) continue;
         if (!di.sub_type.empty() && !is_data_item_type(di.sub_type)) continue;
         if (!items) items = comp.append_child("DataItems");
-        pugi::xml_node node = items.append_child("DataItem");
         const std::string xml_id = ids.make(qualified(di.id), "item");
-        const bool known_category =
-            di.category == "SAMPLE" || di.category == "EVENT" || di.category == "CONDITION";
-        node.append_attribute("category") = known_category ? di.category.c_str() : "EVENT";
-        node.append_attribute("id") = xml_id.c_str();
-        if (!di.name.empty()) node.append_attribute("name") = di.name.c_str();
-        node.append_attribute("type") = di.type.c_str();
-        if (!di.sub_type.empty()) node.append_attribute("subType") = di.sub_type.c_str();
+        append_data_item(items, di, xml_id);
         if (xml_id != di.id) model.source_of_xml_id_[xml_id] = di.id;
       }
     }
