@@ -52,7 +52,7 @@ class RespondRunner {
   Slot* slot_for(core::Service s);
   void on_event(const LinkEvent& e);
   void on_peer_link(const LinkEvent& e);
-  void on_state(Slot& slot, const LinkEvent& e);
+  static void on_state(Slot& slot, const LinkEvent& e);
   void on_request(Slot& slot);
   void on_timers(Slot& slot, TimePoint now);
   void inject(Slot& slot);
