@@ -260,7 +260,9 @@ struct DomainObserver::Impl {
   // with the device's own lease) or the writer went away (not checked).
   void heartbeat_writer_lost(const detail::WriterLivelinessEvent& e,
                              const detail::PeerGroupKey& key) {
-    const auto copy = key;
+    // A copy, not a reference: `key` lives in the peer_groups entry that
+    // forget_writer() below erases.
+    const auto copy = key;  // NOLINT(performance-unnecessary-copy-initialization)
     if (!e.unmatched) {
       const auto* group = peer_groups.find(copy);
       if (group == nullptr) return;

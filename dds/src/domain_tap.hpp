@@ -54,8 +54,8 @@ struct ValueEvent {
   ObservedValue value;
 };
 struct HeartbeatEvent {
-  Handle writer;
-  Handle instance;
+  Handle writer{};
+  Handle instance{};
   ObservedHeartbeat heartbeat;
 };
 struct DeviceEvent {

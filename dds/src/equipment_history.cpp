@@ -78,6 +78,8 @@ void EquipmentImpl::bound_history(std::size_t group, TopicKind topic) {
   bounding_history = true;
   struct Guard {
     bool& flag;
+    Guard(const Guard&) = delete;
+    Guard& operator=(const Guard&) = delete;
     ~Guard() { flag = false; }
   } guard{bounding_history};
   const std::uint64_t keep_from = newest - limit / 2;

@@ -170,7 +170,7 @@ struct EquipmentImpl {
   // not: an interface that pairs later starts from what is already known
   // (items are written on change only; nothing else would bring them).
   struct SeenValue {
-    detail::Handle writer;
+    detail::Handle writer{};
     ObservedValue value;
   };
   std::map<std::pair<std::string, std::string>, SeenValue> seen_values;
@@ -242,8 +242,8 @@ struct EquipmentImpl {
   // --- DDS events (equipment_events.cpp) ---
   void on_event(std::size_t group, detail::TapEvent& event);
   void on_value(std::size_t group, detail::ValueEvent& e);
-  void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
-                              const ObservedValue& v);
+  static void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
+                                     const ObservedValue& v);
   void deliver(InterfaceSlot& itf, const ObservedValue& v, bool missed_change);
   void on_heartbeat(std::size_t group, detail::HeartbeatEvent& e);
   void redeliver_stale(InterfaceSlot& itf);
