@@ -141,8 +141,9 @@ TEST(TypeSupport, HeartbeatKeyIsDeviceAndGroup) {
   std::vector<unsigned char> cdr;
   append_cdr_string(cdr, "cell-robot");
   while (cdr.size() % 4 != 0) cdr.push_back(0);
-  for (int shift = 24; shift >= 0; shift -= 8)
+  for (int shift = 24; shift >= 0; shift -= 8) {
     cdr.push_back(static_cast<unsigned char>(1 >> shift));
+  }
   MD5 md5;
   md5.update(cdr.data(), static_cast<MD5::size_type>(cdr.size()));
   md5.finalize();
