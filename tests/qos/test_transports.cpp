@@ -67,7 +67,7 @@ class Peer {
  public:
   Peer(int domain, const mtc::qos::ParticipantConfig& config,
        mtc::qos::EndpointQos preset = mtc::qos::state_topic())
-      : preset_(std::move(preset)) {
+      : preset_(preset) {
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     participant_ = factory->create_participant(domain, mtc::qos::participant_qos(config));
     if (participant_ == nullptr) throw std::runtime_error("participant");
