@@ -27,13 +27,10 @@
 namespace mtc::dds::testing {
 
 // Raw peers build their entities from the runtime's internals.
-namespace fdds = detail::fdds;
 namespace topics = detail::topics;
 using detail::HeartbeatWriter;
 using detail::Participant;
 using detail::Publisher;
-using detail::Topic;
-using detail::Writer;
 namespace {
 
 using core::InterfaceType;
