@@ -96,8 +96,9 @@ BENCHMARK(BM_CurrentPathAfterChange);
 void BM_Sample100(benchmark::State& state) {
   auto agent = make_cell();
   for (int i = 0; i < 1000; ++i) agent->add_value(value(i));
-  for ([[maybe_unused]] auto _ : state)
+  for ([[maybe_unused]] auto _ : state) {
     benchmark::DoNotOptimize(agent->route("GET", "/sample?count=100"));
+  }
 }
 BENCHMARK(BM_Sample100);
 

@@ -187,7 +187,7 @@ int run_responder(const Options& o, Shared& shared) {
   publish_traffic(*eq, shared.responder);  // its start-up writes before any sample
   shared.responder.started.store(1);
   // Publishes its traffic for the parent's samples until told to stop.
-  const timespec period{0, 200 * 1000 * 1000};
+  const timespec period{0, 200L * 1000 * 1000};
   while (sigtimedwait(&stop_signals, nullptr, &period) < 0) {
     publish_traffic(*eq, shared.responder);
   }
