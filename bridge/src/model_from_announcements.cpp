@@ -5,7 +5,9 @@
 // announcements over with their text already fit for XML (make_xml_safe).
 #include <cctype>
 #include <map>
+#include <string>
 #include <tuple>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "mtc/bridge/device_model.hpp"
@@ -74,6 +76,25 @@ void append_data_item(pugi::xml_node items, const core::ObservedDataItem& di,
   if (!di.sub_type.empty()) node.append_attribute("subType") = di.sub_type.c_str();
 }
 
+// AVAILABILITY, and the asset items every device of the reference agent
+// has (the bridge keeps no assets: they read UNAVAILABLE), each mapped in
+// `source_of` to the key its values arrive under.
+void append_device_items(pugi::xml_node dev, const std::string& dev_id, IdMaker& ids,
+                         std::unordered_map<std::string, std::string>& source_of) {
+  pugi::xml_node device_items = dev.append_child("DataItems");
+  for (const auto& [suffix, type, key] :
+       {std::tuple{"_avail", "AVAILABILITY", &kAvailabilityKey},
+        std::tuple{"_asset_chg", "ASSET_CHANGED", &kAssetChangedKey},
+        std::tuple{"_asset_rem", "ASSET_REMOVED", &kAssetRemovedKey}}) {
+    pugi::xml_node item = device_items.append_child("DataItem");
+    const std::string item_id = ids.make(dev_id + suffix, "item");
+    item.append_attribute("category") = "EVENT";
+    item.append_attribute("id") = item_id.c_str();
+    item.append_attribute("type") = type;
+    source_of[item_id] = *key;
+  }
+}
+
 }  // namespace
 
 DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevice>& devices,
@@ -90,21 +111,7 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
     dev.append_attribute("name") = name.c_str();
     dev.append_attribute("uuid") = announced.device_uuid.c_str();
 
-    // AVAILABILITY, and the asset items every device of the reference
-    // agent has (the bridge keeps no assets: they read UNAVAILABLE).
-    pugi::xml_node device_items = dev.append_child("DataItems");
-    for (const auto& [suffix, type, key] :
-         {std::tuple{"_avail", "AVAILABILITY", &kAvailabilityKey},
-          std::tuple{"_asset_chg", "ASSET_CHANGED", &kAssetChangedKey},
-          std::tuple{"_asset_rem", "ASSET_REMOVED", &kAssetRemovedKey}}) {
-      pugi::xml_node item = device_items.append_child("DataItem");
-      const std::string item_id = ids.make(dev_id + suffix, "item");
-      item.append_attribute("category") = "EVENT";
-      item.append_attribute("id") = item_id.c_str();
-      item.append_attribute("type") = type;
-      model.source_of_xml_id_[item_id] = *key;
-    }
-
+    append_device_items(dev, dev_id, ids, model.source_of_xml_id_);
     auto qualified = [&](const std::string& id) {
       const auto it = uses.find(id);
       if (it == uses.end() || it->second <= 1) return id;
