@@ -108,7 +108,8 @@ TEST(AgentStreams, WaitForWakesOnNewData) {
   EXPECT_EQ(notified.get_future().wait_for(std::chrono::seconds(30)), std::future_status::ready);
   agent->unsubscribe(id);
   // A duplicate adds nothing and notifies nobody.
-  agent->add_value(value("mill-0001", "mill.mh.state", core::InterfaceState::Enabled, kT0, 1));
+  agent->add_value(value("mill-0001", "mill.mh.state", core::InterfaceState::Enabled, kT0,
+                         /*redelivered=*/true));
   EXPECT_EQ(agent->next_sequence(), next + 1);
 }
 
@@ -117,6 +118,7 @@ TEST(AgentStreams, ConcurrentProducersAndReaders) {
   std::atomic<bool> stop{false};
   std::vector<std::thread> readers;
   std::atomic<int> bad{0};
+  readers.reserve(3);
   for (int t = 0; t < 3; ++t) {
     readers.emplace_back([&] {
       while (!stop) {
