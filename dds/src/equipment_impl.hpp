@@ -259,7 +259,7 @@ struct EquipmentImpl {
   void check_silence();
   void on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
                                 const char* cause, bool check_silence);
-  void owner_silent(std::size_t group, detail::PeerGroupKey key, bool check_silence);
+  void owner_silent(std::size_t group, const detail::PeerGroupKey& key, bool check_silence);
   // Counterparts lost by silence (timing group, heartbeat group key): they
   // no longer own their device, whichever check found them, after the links
   // (a takeover pairs anew). The liveliness cue that would say so is ignored
