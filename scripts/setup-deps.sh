@@ -29,6 +29,7 @@ PACKAGES=(
   cyclonedds-tools                                         # ddsperf: Cyclone's round trip, the
                                                            # yardstick in mtc-bench-dds-latency
   chromium                                                 # the live page's browser test (headless)
+  clang-format clang-tidy                                  # lint.format, lint.tidy (scripts/lint.sh)
 )
 
 missing=()

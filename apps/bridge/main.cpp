@@ -17,7 +17,12 @@ constexpr int kExitConfig = 2;
 }  // namespace
 
 int main(int argc, char** argv) {
-  using namespace mtc::bridge;
+  using mtc::bridge::BridgeApp;
+  using mtc::bridge::CommandLine;
+  using mtc::bridge::ConfigError;
+  using mtc::bridge::ModelError;
+  using mtc::bridge::parse_command_line;
+  using mtc::bridge::usage_text;
   CommandLine line;
   try {
     line = parse_command_line(argc, argv);

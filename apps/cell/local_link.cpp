@@ -50,7 +50,7 @@ struct LocalBus::Impl {
   std::optional<core::DoorState> door;
   std::optional<core::ChuckState> chuck;
 
-  void note(Wire& w, const core::StepResult& r) {
+  static void note(Wire& w, const core::StepResult& r) {
     if (r.role == core::Role::Responder && r.notice == core::Notice::RequestObserved) {
       w.job_pending = true;
     }
@@ -60,7 +60,7 @@ struct LocalBus::Impl {
   }
 
   // Shows each side the other's current value until neither changes.
-  void propagate(Wire& w, core::TimePoint now) {
+  static void propagate(Wire& w, core::TimePoint now) {
     for (int round = 0; round < 16; ++round) {
       bool changed = false;
       if (w.req.state() != w.req_seen_by_resp) {

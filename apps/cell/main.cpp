@@ -110,8 +110,9 @@ std::string parse(int argc, char** argv, Parsed& p) {
     } else if (a == "--domain" && parse_number(v, 0, 232, n)) {
       p.options.domain_id = static_cast<int>(n);
     } else {
-      return "bad option or value: " + a + " " +
-             v;  // NOLINT(performance-inefficient-string-concatenation)
+      // Built once, on the way out of the loop.
+      // NOLINTNEXTLINE(performance-inefficient-string-concatenation)
+      return "bad option or value: " + a + " " + v;
     }
     p.station_args.push_back(a);
     p.station_args.push_back(v);

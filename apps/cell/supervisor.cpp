@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -126,12 +127,7 @@ class Supervisor {
 
  private:
   bool any_running() const {
-    for (const auto& c : children_) {
-      if (c.running) {
-        return true;
-      }
-    }
-    return false;
+    return std::any_of(children_.begin(), children_.end(), [](const auto& c) { return c.running; });
   }
 
   // Scenario 6 staged for real: a station process is frozen (SIGSTOP) long

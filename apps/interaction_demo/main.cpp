@@ -44,7 +44,8 @@ Parsed parse(int argc, char** argv, Options& o, std::string_view& bad) {
     const bool has_value = i + 1 < argc;
     if (arg == "--help" || arg == "-h") {
       return Parsed::Help;
-    } else if (arg == "--profile" && has_value) {
+    }
+    if (arg == "--profile" && has_value) {
       const std::string_view v = bad = argv[++i];
       if (v == "1.6" || v == "1.8") {
         o.v13 = false;

@@ -14,8 +14,10 @@
 
 namespace {
 
-using namespace mtc;
-using namespace mtc::bridge;
+namespace core = mtc::core;
+using mtc::bridge::AgentOptions;
+using mtc::bridge::MtconnectAgent;
+using mtc::bridge::SchemaVersion;
 
 core::ObservedDataItem item(std::string id, std::string type, std::string sub = "") {
   core::ObservedDataItem d;
@@ -58,14 +60,14 @@ core::ObservedValue value(int i) {
   core::ObservedValue v;
   v.device_uuid = "mill-uuid";
   v.data_item_id = "mill.load";
-  v.state = i % 2 ? core::InteractionState::Active : core::InteractionState::Ready;
+  v.state = i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready;
   v.source_time_ns = 1'700'000'000'000'000'000 + i;
   return v;
 }
 
 void BM_CurrentCached(benchmark::State& state) {
   auto agent = make_cell();
-  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/current"));
+  for ([[maybe_unused]] auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/current"));
 }
 BENCHMARK(BM_CurrentCached);
 
@@ -73,7 +75,7 @@ BENCHMARK(BM_CurrentCached);
 void BM_CurrentAfterChange(benchmark::State& state) {
   auto agent = make_cell();
   int i = 0;
-  for (auto _ : state) {
+  for ([[maybe_unused]] auto _ : state) {
     agent->add_value(value(i++));
     benchmark::DoNotOptimize(agent->route("GET", "/current"));
   }
@@ -83,7 +85,7 @@ BENCHMARK(BM_CurrentAfterChange);
 void BM_CurrentPathAfterChange(benchmark::State& state) {
   auto agent = make_cell();
   int i = 0;
-  for (auto _ : state) {
+  for ([[maybe_unused]] auto _ : state) {
     agent->add_value(value(i++));
     benchmark::DoNotOptimize(
         agent->route("GET", "/mill/current?path=//DataItem[@type='MATERIAL_LOAD']"));
@@ -94,7 +96,9 @@ BENCHMARK(BM_CurrentPathAfterChange);
 void BM_Sample100(benchmark::State& state) {
   auto agent = make_cell();
   for (int i = 0; i < 1000; ++i) agent->add_value(value(i));
-  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/sample?count=100"));
+  for ([[maybe_unused]] auto _ : state) {
+    benchmark::DoNotOptimize(agent->route("GET", "/sample?count=100"));
+  }
 }
 BENCHMARK(BM_Sample100);
 
@@ -104,20 +108,20 @@ void BM_CurrentAtMidBuffer(benchmark::State& state) {
   auto agent = make_cell();
   for (int i = 0; i < 200000; ++i) agent->add_value(value(i));
   const std::string target = "/current?at=" + std::to_string(agent->next_sequence() - 65000);
-  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", target));
+  for ([[maybe_unused]] auto _ : state) benchmark::DoNotOptimize(agent->route("GET", target));
 }
 BENCHMARK(BM_CurrentAtMidBuffer);
 
 void BM_ProbeCached(benchmark::State& state) {
   auto agent = make_cell();
-  for (auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/probe"));
+  for ([[maybe_unused]] auto _ : state) benchmark::DoNotOptimize(agent->route("GET", "/probe"));
 }
 BENCHMARK(BM_ProbeCached);
 
 void BM_IngestChange(benchmark::State& state) {
   auto agent = make_cell();
   int i = 0;
-  for (auto _ : state) agent->add_value(value(i++));
+  for ([[maybe_unused]] auto _ : state) agent->add_value(value(i++));
 }
 BENCHMARK(BM_IngestChange);
 
@@ -128,7 +132,7 @@ void BM_IngestRedelivered(benchmark::State& state) {
   agent->add_value(value(0));
   core::ObservedValue v = value(0);
   v.redelivered = true;
-  for (auto _ : state) agent->add_value(v);
+  for ([[maybe_unused]] auto _ : state) agent->add_value(v);
 }
 BENCHMARK(BM_IngestRedelivered);
 
@@ -139,13 +143,13 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     for (const Run& r : runs) {
       if (r.iterations == 0) continue;
       const double ns = r.real_accumulated_time * 1e9 / static_cast<double>(r.iterations);
-      results_.push_back({r.benchmark_name(), ns});
+      results_.emplace_back(r.benchmark_name(), ns);
     }
   }
   void print_json() const {
     std::printf("{\"benchmark\":\"bridge_agent\",\"schema\":\"1.6\",\"items\":28,\"results\":[");
     for (std::size_t i = 0; i < results_.size(); ++i) {
-      std::printf("%s{\"name\":\"%s\",\"ns_per_op\":%.0f,\"ops_per_s\":%.0f}", i ? "," : "",
+      std::printf("%s{\"name\":\"%s\",\"ns_per_op\":%.0f,\"ops_per_s\":%.0f}", i > 0 ? "," : "",
                   results_[i].first.c_str(), results_[i].second, 1e9 / results_[i].second);
     }
     std::printf("]}\n");

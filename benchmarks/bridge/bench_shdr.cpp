@@ -35,8 +35,7 @@ constexpr const char* kAbout =
 // A connected reader counting lines.
 class Reader {
  public:
-  explicit Reader(std::uint16_t port) {
-    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+  explicit Reader(std::uint16_t port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
     addr.sin_port = htons(port);
@@ -45,6 +44,9 @@ class Reader {
       throw std::runtime_error("cannot connect to the SHDR port");
     }
   }
+  // Owns the socket: a copy would close it twice.
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
   ~Reader() { ::close(fd_); }
   // Reads until `count` lines in all have arrived; false at EOF.
   bool read_lines(std::size_t count) {
@@ -126,7 +128,8 @@ int main(int argc, char** argv) try {
       core::ObservedValue v;
       v.device_uuid = "mill-" + std::to_string(i % devices);
       v.data_item_id = "MATERIAL_LOAD_req";
-      v.state = (i / devices) % 2 ? core::InteractionState::Active : core::InteractionState::Ready;
+      v.state =
+          (i / devices) % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready;
       v.source_time_ns = 1;
       agent->add_value(v);
     }

@@ -22,7 +22,7 @@
 
 namespace {
 
-using namespace mtc::bridge::bench;
+using mtc::bridge::bench::DemoCell;
 
 // "123.45us" / "1.20ms" / "2.00s" -> microseconds.
 double to_us(const std::string& number, const std::string& unit) {

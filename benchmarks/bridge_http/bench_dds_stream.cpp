@@ -23,10 +23,15 @@
 #include "mtc/qos/participant.hpp"
 #include "stream_client.hpp"
 
-using namespace mtc;
-using namespace mtc::bridge::bench;
-
 namespace {
+
+namespace bridge = mtc::bridge;
+namespace core = mtc::core;
+namespace dds = mtc::dds;
+namespace qos = mtc::qos;
+using mtc::bridge::bench::print_summary;
+using mtc::bridge::bench::StreamClient;
+using mtc::bridge::bench::summarize;
 
 constexpr int kDomain = 110;
 
@@ -48,6 +53,54 @@ constexpr const char* kAbout =
     "   \"from_command_us\":{...},\"meets_bar\",...}\n"
     "(bar, from the transition: p50 < 200 us, p99 < 2 ms, none lost).\n"
     "benchmarks/bridge_http/run.sh collects it in <build>/benchmarks/bridge_http.json.";
+
+struct Latencies {
+  std::vector<std::chrono::nanoseconds> from_step;
+  std::vector<std::chrono::nanoseconds> from_command;
+  int lost = 0;
+};
+
+// Toggles `load` `samples` times, after 20 warm-up toggles that are not
+// counted, and times the arrival of each change at `client` from the
+// device's state-machine step (`step_ns`) and from the command.
+Latencies measure(StreamClient& client, dds::Responder& load,
+                  const std::atomic<std::int64_t>& step_ns, int samples) {
+  std::mt19937 random(11);
+  std::uniform_int_distribution<int> gap_us(500, 1500);
+  Latencies m;
+  const int warmup = 20;
+  for (int k = 0; k < samples + warmup; ++k) {
+    const bool ready = k % 2 == 1;
+    client.expect(ready ? ">READY<" : ">NOT_READY<");
+    const auto command = std::chrono::system_clock::now();
+    load.set_ready(ready).get();
+    const auto arrival = client.wait(std::chrono::seconds(2));
+    if (!arrival) {
+      ++m.lost;
+      continue;
+    }
+    if (k >= warmup) {
+      m.from_step.emplace_back(wall_ns(arrival->wall) - step_ns.load());
+      m.from_command.emplace_back(wall_ns(arrival->wall) - wall_ns(command));
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(gap_us(random)));  // pacing
+  }
+  return m;
+}
+
+// The JSON line on stdout: both latencies and whether they meet the bar.
+void print_result(const Latencies& m) {
+  const int lost = m.lost;
+  const auto step = summarize(m.from_step);
+  std::cout << "{\"benchmark\":\"bridge_http_dds_stream_latency\",\"transport\":\"loopback\","
+            << "\"lost\":" << lost << ",\"from_transition_us\":";
+  print_summary(std::cout, step);
+  std::cout << ",\"from_command_us\":";
+  print_summary(std::cout, summarize(m.from_command));
+  std::cout << ",\"bar\":{\"max_p50_us\":200,\"max_p99_us\":2000},\"meets_bar\":"
+            << ((lost == 0 && step.p50_us < 200 && step.p99_us < 2000) ? "true" : "false") << "}"
+            << std::endl;
+}
 
 }  // namespace
 
@@ -98,43 +151,7 @@ int main(int argc, char** argv) try {
     throw std::runtime_error("device never reached the bridge");
   }
 
-  std::mt19937 random(11);
-  std::uniform_int_distribution<int> gap_us(500, 1500);
-  std::vector<std::chrono::nanoseconds> from_step;
-  std::vector<std::chrono::nanoseconds> from_command;
-  int lost = 0;
-  const int warmup = 20;
-  for (int k = 0; k < samples + warmup; ++k) {
-    const bool ready = k % 2 == 1;
-    client.expect(ready ? ">READY<" : ">NOT_READY<");
-    const auto command = std::chrono::system_clock::now();
-    load.set_ready(ready).get();
-    const auto arrival = client.wait(std::chrono::seconds(2));
-    if (!arrival) {
-      ++lost;
-      continue;
-    }
-    if (k >= warmup) {
-      from_step.emplace_back(wall_ns(arrival->wall) - step_ns.load());
-      from_command.emplace_back(wall_ns(arrival->wall) - wall_ns(command));
-    }
-    std::this_thread::sleep_for(std::chrono::microseconds(gap_us(random)));  // pacing
-  }
-
-  auto print = [](const LatencySummary& s) {
-    std::cout << "{\"samples\":" << s.samples << ",\"p50\":" << s.p50_us << ",\"p90\":" << s.p90_us
-              << ",\"p99\":" << s.p99_us << ",\"max\":" << s.max_us << ",\"mean\":" << s.mean_us
-              << "}";
-  };
-  const auto step = summarize(from_step);
-  std::cout << "{\"benchmark\":\"bridge_http_dds_stream_latency\",\"transport\":\"loopback\","
-            << "\"lost\":" << lost << ",\"from_transition_us\":";
-  print(step);
-  std::cout << ",\"from_command_us\":";
-  print(summarize(from_command));
-  std::cout << ",\"bar\":{\"max_p50_us\":200,\"max_p99_us\":2000},\"meets_bar\":"
-            << ((lost == 0 && step.p50_us < 200 && step.p99_us < 2000) ? "true" : "false") << "}"
-            << std::endl;
+  print_result(measure(client, load, step_ns, samples));
   return 0;
 } catch (const std::exception& error) {
   std::cerr << "mtc-bench-bridge-dds-stream: " << error.what() << "\n";

@@ -32,7 +32,10 @@
 #include "demo_cell.hpp"
 #include "mtc/bench/cli.hpp"
 
-using namespace mtc::bridge::bench;
+using mtc::bridge::bench::DemoCell;
+using mtc::bridge::bench::LatencySummary;
+using mtc::bridge::bench::print_summary;
+using mtc::bridge::bench::summarize;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -95,8 +98,8 @@ int connect_stream(std::uint16_t port, const std::string& source) {
 // arrival of the awaited token at each client.
 class Fanout {
  public:
-  Fanout(std::uint16_t port, int clients) : windows_(static_cast<std::size_t>(clients)) {
-    epoll_ = ::epoll_create1(EPOLL_CLOEXEC);
+  Fanout(std::uint16_t port, int clients)
+      : epoll_(::epoll_create1(EPOLL_CLOEXEC)), windows_(static_cast<std::size_t>(clients)) {
     for (int i = 0; i < clients; ++i) {
       const int fd = connect_stream(port, "127.0.0." + std::to_string(2 + i % 20));
       fds_.push_back(fd);
@@ -119,6 +122,8 @@ class Fanout {
     }
     ::close(epoll_);
   }
+  Fanout(const Fanout&) = delete;  // owns the sockets and the reader thread
+  Fanout& operator=(const Fanout&) = delete;
 
   void expect(const std::string& token) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -196,10 +201,46 @@ void raise_fd_limit() {
   }
 }
 
-void print(const LatencySummary& s) {
-  std::cout << "{\"samples\":" << s.samples << ",\"p50\":" << s.p50_us << ",\"p90\":" << s.p90_us
-            << ",\"p99\":" << s.p99_us << ",\"max\":" << s.max_us << ",\"mean\":" << s.mean_us
-            << "}";
+// What one run measured: per fed value, each client's latency and the
+// slowest client's; the clients that never got it; RSS around streaming.
+struct FanoutRun {
+  std::vector<std::chrono::nanoseconds> all_clients;
+  std::vector<std::chrono::nanoseconds> last_client;
+  long rss_start = 0;
+  long rss_end = 0;
+  int lost = 0;
+};
+
+FanoutRun measure(DemoCell& cell, int client_count, int feeds) {
+  FanoutRun run;
+  Fanout fanout(cell.port(), client_count);
+  const int warmup = 5;  // the first parts carry every item's current value
+  for (int k = 0; k < warmup + feeds; ++k) {
+    if (k == warmup) {
+      run.rss_start = rss_kb();
+    }
+    fanout.expect("sequence=\"" + std::to_string(cell.agent().next_sequence()) + "\"");
+    const auto t0 = Clock::now();
+    cell.feed_next(0);
+    const auto arrivals = fanout.wait(std::chrono::milliseconds(k < warmup ? 10000 : 5000));
+    if (k < warmup) {
+      continue;
+    }
+    auto latest = std::chrono::nanoseconds{0};
+    for (const auto& t : arrivals) {
+      if (t == Clock::time_point{}) {
+        ++run.lost;
+        continue;
+      }
+      const auto latency = std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0);
+      run.all_clients.push_back(latency);
+      latest = std::max(latest, latency);
+    }
+    run.last_client.push_back(latest);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  run.rss_end = rss_kb();
+  return run;
 }
 
 }  // namespace
@@ -220,58 +261,26 @@ int main(int argc, char** argv) try {
   raise_fd_limit();
   DemoCell cell(devices, static_cast<unsigned>(io_threads));
   const long rss_before = rss_kb();
-  std::vector<std::chrono::nanoseconds> all_clients;
-  std::vector<std::chrono::nanoseconds> last_client;
-  long rss_start = 0;
-  long rss_end = 0;
-  int lost = 0;
-  {
-    Fanout fanout(cell.port(), client_count);
-    const int warmup = 5;  // the first parts carry every item's current value
-    for (int k = 0; k < warmup + feeds; ++k) {
-      if (k == warmup) {
-        rss_start = rss_kb();
-      }
-      fanout.expect("sequence=\"" + std::to_string(cell.agent().next_sequence()) + "\"");
-      const auto t0 = Clock::now();
-      cell.feed_next(0);
-      const auto arrivals = fanout.wait(std::chrono::milliseconds(k < warmup ? 10000 : 5000));
-      if (k < warmup) {
-        continue;
-      }
-      auto latest = std::chrono::nanoseconds{0};
-      for (const auto& t : arrivals) {
-        if (t == Clock::time_point{}) {
-          ++lost;
-          continue;
-        }
-        const auto latency = std::chrono::duration_cast<std::chrono::nanoseconds>(t - t0);
-        all_clients.push_back(latency);
-        latest = std::max(latest, latency);
-      }
-      last_client.push_back(latest);
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    rss_end = rss_kb();
-  }
+  const FanoutRun run = measure(cell, client_count, feeds);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the server closes its side
   const long rss_after = rss_kb();
-  const auto all = summarize(all_clients);
-  const long growth = rss_end - rss_start;
-  const bool flat = growth <= std::max(2048L, rss_start / 20);
+  const LatencySummary all = summarize(run.all_clients);
+  const long growth = run.rss_end - run.rss_start;
+  const bool flat = growth <= std::max(2048L, run.rss_start / 20);
   std::cout << "{\"benchmark\":\"bridge_http_fanout\",\"clients\":" << client_count
-            << ",\"feeds\":" << feeds << ",\"io_threads\":" << io_threads << ",\"lost\":" << lost
-            << ",\"all_clients_us\":";
-  print(all);
+            << ",\"feeds\":" << feeds << ",\"io_threads\":" << io_threads
+            << ",\"lost\":" << run.lost << ",\"all_clients_us\":";
+  print_summary(std::cout, all);
   std::cout << ",\"last_client_us\":";
-  print(summarize(last_client));
+  print_summary(std::cout, summarize(run.last_client));
   std::cout << ",\"rss_kb\":{\"before_clients\":" << rss_before
-            << ",\"streaming_start\":" << rss_start << ",\"streaming_end\":" << rss_end
+            << ",\"streaming_start\":" << run.rss_start << ",\"streaming_end\":" << run.rss_end
             << ",\"after_clients_left\":" << rss_after
             << "},\"rss_growth_while_streaming_kb\":" << growth
             << ",\"bar\":{\"max_p99_us\":10000,\"rss_growth\":\"<= max(2 MiB, 5 %)\"}"
-            << ",\"meets_bar\":" << ((lost == 0 && all.p99_us < 10000 && flat) ? "true" : "false")
-            << "}" << std::endl;
+            << ",\"meets_bar\":"
+            << ((run.lost == 0 && all.p99_us < 10000 && flat) ? "true" : "false") << "}"
+            << std::endl;
   return 0;
 } catch (const std::exception& error) {
   std::cerr << "mtc-bench-bridge-fanout: " << error.what() << "\n";

@@ -15,9 +15,13 @@
 #include "mtc/bench/cli.hpp"
 #include "stream_client.hpp"
 
-using namespace mtc::bridge::bench;
-
 namespace {
+
+using mtc::bridge::bench::Clock;
+using mtc::bridge::bench::DemoCell;
+using mtc::bridge::bench::print_summary;
+using mtc::bridge::bench::StreamClient;
+using mtc::bridge::bench::summarize;
 
 constexpr const char* kAbout =
     "Streaming latency of the bridge's HTTP server: from a value fed into the agent\n"
@@ -29,6 +33,49 @@ constexpr const char* kAbout =
     "   \"first_client_us\":{p50,p90,p99,max,mean},\"all_clients_us\":{...},\"meets_bar\",...}\n"
     "(bar, all clients: p50 < 200 us, p99 < 2 ms, none lost).\n"
     "benchmarks/bridge_http/run.sh collects it in <build>/benchmarks/bridge_http.json.";
+
+struct Latencies {
+  std::vector<std::chrono::nanoseconds> first_client;
+  std::vector<std::chrono::nanoseconds> all_clients;
+  int lost = 0;
+};
+
+// Feeds `samples` values, after 50 warm-up feeds that are not counted, and
+// times the arrival of the part carrying each at every client.
+Latencies measure(DemoCell& cell, std::vector<std::unique_ptr<StreamClient>>& clients,
+                  int samples) {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> gap_us(200, 1200);
+  Latencies m;
+  const int warmup = 50;
+  for (int k = 0; k < samples + warmup; ++k) {
+    const std::uint64_t sequence = cell.agent().next_sequence();
+    for (auto& client : clients) {
+      client->expect("sequence=\"" + std::to_string(sequence) + "\"");
+    }
+    const auto t0 = Clock::now();
+    cell.feed_next(0);  // one item: each feed is one new observation
+    for (std::size_t c = 0; c < clients.size(); ++c) {
+      const auto t1 = clients[c]->wait(std::chrono::milliseconds(2000));
+      if (!t1) {
+        ++m.lost;
+        continue;
+      }
+      if (k < warmup) {
+        continue;
+      }
+      const auto latency = std::chrono::duration_cast<std::chrono::nanoseconds>(t1->steady - t0);
+      m.all_clients.push_back(latency);
+      if (c == 0) {
+        m.first_client.push_back(latency);
+      }
+    }
+    // Spread the feeds so each measures an idle-to-busy wake-up, as a
+    // handshake transition does, not a queue draining.
+    std::this_thread::sleep_for(std::chrono::microseconds(gap_us(random)));
+  }
+  return m;
+}
 
 }  // namespace
 
@@ -48,55 +95,20 @@ int main(int argc, char** argv) try {
 
   DemoCell cell(devices, static_cast<unsigned>(io_threads));
   std::vector<std::unique_ptr<StreamClient>> clients;
+  clients.reserve(static_cast<std::size_t>(client_count));
   for (int i = 0; i < client_count; ++i) {
     clients.push_back(std::make_unique<StreamClient>(cell.port()));
   }
 
-  std::mt19937 random(7);
-  std::uniform_int_distribution<int> gap_us(200, 1200);
-  std::vector<std::chrono::nanoseconds> first_client;
-  std::vector<std::chrono::nanoseconds> all_clients;
-  int lost = 0;
-  const int warmup = 50;
-  for (int k = 0; k < samples + warmup; ++k) {
-    const std::uint64_t sequence = cell.agent().next_sequence();
-    for (auto& client : clients) {
-      client->expect("sequence=\"" + std::to_string(sequence) + "\"");
-    }
-    const auto t0 = Clock::now();
-    cell.feed_next(0);  // one item: each feed is one new observation
-    for (std::size_t c = 0; c < clients.size(); ++c) {
-      const auto t1 = clients[c]->wait(std::chrono::milliseconds(2000));
-      if (!t1) {
-        ++lost;
-        continue;
-      }
-      if (k < warmup) {
-        continue;
-      }
-      const auto latency = std::chrono::duration_cast<std::chrono::nanoseconds>(t1->steady - t0);
-      all_clients.push_back(latency);
-      if (c == 0) {
-        first_client.push_back(latency);
-      }
-    }
-    // Spread the feeds so each measures an idle-to-busy wake-up, as a
-    // handshake transition does, not a queue draining.
-    std::this_thread::sleep_for(std::chrono::microseconds(gap_us(random)));
-  }
-
-  const auto one = summarize(first_client);
-  const auto all = summarize(all_clients);
-  auto print = [](const LatencySummary& s) {
-    std::cout << "{\"samples\":" << s.samples << ",\"p50\":" << s.p50_us << ",\"p90\":" << s.p90_us
-              << ",\"p99\":" << s.p99_us << ",\"max\":" << s.max_us << ",\"mean\":" << s.mean_us
-              << "}";
-  };
+  const Latencies m = measure(cell, clients, samples);
+  const int lost = m.lost;
+  const auto one = summarize(m.first_client);
+  const auto all = summarize(m.all_clients);
   std::cout << "{\"benchmark\":\"bridge_http_stream_latency\",\"clients\":" << client_count
             << ",\"io_threads\":" << io_threads << ",\"lost\":" << lost << ",\"first_client_us\":";
-  print(one);
+  print_summary(std::cout, one);
   std::cout << ",\"all_clients_us\":";
-  print(all);
+  print_summary(std::cout, all);
   std::cout << ",\"bar\":{\"max_p50_us\":200,\"max_p99_us\":2000},\"meets_bar\":"
             << ((lost == 0 && all.p50_us < 200 && all.p99_us < 2000) ? "true" : "false") << "}"
             << std::endl;

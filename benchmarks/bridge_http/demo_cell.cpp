@@ -107,4 +107,9 @@ LatencySummary summarize(std::vector<std::chrono::nanoseconds> samples) {
   return s;
 }
 
+void print_summary(std::ostream& out, const LatencySummary& s) {
+  out << "{\"samples\":" << s.samples << ",\"p50\":" << s.p50_us << ",\"p90\":" << s.p90_us
+      << ",\"p99\":" << s.p99_us << ",\"max\":" << s.max_us << ",\"mean\":" << s.mean_us << "}";
+}
+
 }  // namespace mtc::bridge::bench

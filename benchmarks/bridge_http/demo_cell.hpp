@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ class DemoCell {
  public:
   DemoCell(const std::string& devices_file, unsigned io_threads);
   ~DemoCell();
+  DemoCell(const DemoCell&) = delete;
+  DemoCell& operator=(const DemoCell&) = delete;
 
   MtconnectAgent& agent() { return *agent_; }
   std::uint16_t port() const { return server_->port(); }
@@ -49,5 +52,7 @@ struct LatencySummary {
   std::size_t samples = 0;
 };
 LatencySummary summarize(std::vector<std::chrono::nanoseconds> samples);
+// {"samples":..,"p50":..,"p90":..,"p99":..,"max":..,"mean":..} on `out`.
+void print_summary(std::ostream& out, const LatencySummary& s);
 
 }  // namespace mtc::bridge::bench

@@ -26,8 +26,8 @@ using Clock = std::chrono::steady_clock;
 class StreamClient {
  public:
   explicit StreamClient(std::uint16_t port,
-                        const std::string& target = "/sample?interval=0&heartbeat=60000") {
-    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+                        const std::string& target = "/sample?interval=0&heartbeat=60000")
+      : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
     sockaddr_in address{};
     address.sin_family = AF_INET;
     address.sin_port = htons(port);
@@ -48,6 +48,8 @@ class StreamClient {
     reader_.join();
     ::close(fd_);
   }
+  StreamClient(const StreamClient&) = delete;
+  StreamClient& operator=(const StreamClient&) = delete;
 
   struct Arrival {
     Clock::time_point steady;

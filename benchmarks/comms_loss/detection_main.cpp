@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <fstream>
@@ -90,8 +91,8 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   return cli.parse(argc, argv);
 }
 
-const char* kWatcher = "det-watcher";
-const char* kResponder = "det-responder";
+constexpr const char* kWatcher = "det-watcher";
+constexpr const char* kResponder = "det-responder";
 
 void set_transport(const Options& o, mtc::dds::EquipmentOptions& eo) {
   if (o.drop_percent > 0 || o.random_drop_percent > 0) {
@@ -189,7 +190,7 @@ struct Series {
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5);
+  const auto rank = static_cast<std::size_t>(std::llround(p * static_cast<double>(v.size() - 1)));
   return v[std::min(rank, v.size() - 1)];
 }
 
@@ -211,6 +212,7 @@ pid_t spawn_child(const Options& o, int heartbeat_ms) {
                                          "--random-drop-percent",
                                          std::to_string(o.random_drop_percent)};
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   const pid_t pid = fork();
@@ -322,7 +324,7 @@ std::string series_json(const Series& s, double max_ratio) {
   if (max_ratio > 0) j << ",\"max_ratio\":" << max_ratio;
   j << ",\"detections_ms\":[";
   for (std::size_t i = 0; i < s.detections_ms.size(); ++i) {
-    j << (i ? "," : "") << s.detections_ms[i];
+    j << (i > 0 ? "," : "") << s.detections_ms[i];
   }
   j << "]}";
   return j.str();
@@ -364,7 +366,7 @@ int main(int argc, char** argv) {
        << ",\"rounds\":" << o.rounds << ",\"false_alarms\":" << false_alarms << ",\"series\":[";
   for (std::size_t i = 0; i < series.size(); ++i) {
     const auto& s = series[i];
-    json << (i ? "," : "") << series_json(s, max_ratio);
+    json << (i > 0 ? "," : "") << series_json(s, max_ratio);
     pass = pass && s.undetected == 0;
     const double lease = s.heartbeat_ms * s.missed;
     for (double d : s.detections_ms) pass = pass && (max_ratio <= 0 || d <= max_ratio * lease);

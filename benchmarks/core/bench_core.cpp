@@ -15,7 +15,15 @@
 
 namespace {
 
-using namespace mtc::core;
+using mtc::core::InteractionState;
+using mtc::core::InterfaceModel;
+using mtc::core::InterfaceType;
+using mtc::core::kAllServices;
+using mtc::core::MachineOptions;
+using mtc::core::Requester;
+using mtc::core::Responder;
+using mtc::core::Service;
+using mtc::core::TimePoint;
 
 constexpr TimePoint kNow{};
 
@@ -23,7 +31,7 @@ constexpr TimePoint kNow{};
 void BM_Transition(benchmark::State& state) {
   Requester rq(Service::MaterialLoad);
   rq.on_counterpart(InteractionState::Ready, kNow);
-  for (auto _ : state) {
+  for ([[maybe_unused]] auto _ : state) {
     benchmark::DoNotOptimize(rq.set_not_ready(kNow));
     benchmark::DoNotOptimize(rq.set_ready(kNow));
   }
@@ -35,7 +43,7 @@ BENCHMARK(BM_Transition);
 void BM_Observation(benchmark::State& state) {
   Responder rs(Service::MaterialLoad);
   rs.on_counterpart(InteractionState::Ready, kNow);
-  for (auto _ : state) {
+  for ([[maybe_unused]] auto _ : state) {
     benchmark::DoNotOptimize(rs.on_counterpart(InteractionState::Active, kNow));
     benchmark::DoNotOptimize(rs.on_counterpart(InteractionState::Ready, kNow));
   }
@@ -49,7 +57,7 @@ void BM_Handshake(benchmark::State& state) {
   Responder rs(Service::MaterialLoad);
   rq.on_counterpart(rs.state(), kNow);
   rs.on_counterpart(rq.state(), kNow);
-  for (auto _ : state) {
+  for ([[maybe_unused]] auto _ : state) {
     rq.request(kNow);
     rs.on_counterpart(rq.state(), kNow);
     rs.accept(kNow);
@@ -71,7 +79,7 @@ void BM_FailRecover(benchmark::State& state) {
   Responder rs(Service::MaterialLoad);
   rq.on_counterpart(rs.state(), kNow);
   rs.on_counterpart(rq.state(), kNow);
-  for (auto _ : state) {
+  for ([[maybe_unused]] auto _ : state) {
     rq.request(kNow);
     rs.on_counterpart(rq.state(), kNow);
     rs.accept(kNow);
@@ -96,7 +104,7 @@ void BM_InterfaceTickIdle(benchmark::State& state) {
   o.limits.response = std::chrono::seconds(5);
   InterfaceModel m(InterfaceType::MaterialHandler, o);
   for (const auto s : kAllServices) m.add_requester(s);
-  for (auto _ : state) {
+  for ([[maybe_unused]] auto _ : state) {
     benchmark::DoNotOptimize(m.next_deadline());
     benchmark::DoNotOptimize(m.on_tick(kNow));
   }

@@ -169,6 +169,15 @@ struct PairRun {
   int stalls = 0;  // requests that never got an outcome
 };
 
+// Ends a series that cannot go on: says why on stderr and counts the
+// `not_run` timed handshakes left, plus `lost` of the current one, as timeouts.
+void stop_series(PairRun& run, const std::string& why, int not_run, std::size_t lost) {
+  std::cerr << "equipment latency: " << why << "; " << not_run
+            << " timed handshakes of this series not run\n";
+  run.handshake.timeouts += static_cast<std::size_t>(not_run) + lost;
+  ++run.stalls;
+}
+
 // Runs `handshakes` (after a warm-up) against a responder that is already
 // up (thread or peer process `peer`, whose CPU time is counted too).
 PairRun run_requester(int domain, qos::Transport t, int handshakes, pid_t peer, int round) {
@@ -194,11 +203,8 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes, pid_t peer, 
       // A request that never ends (no outcome 15 s on: no time limit fired
       // either) leaves the requester ACTIVE for good: give up on this series
       // rather than hang the run, and say so.
-      const int not_run = handshakes - std::max(0, i - warmup);
-      std::cerr << "equipment latency: handshake " << i << " got no outcome in 15 s; " << not_run
-                << " timed handshakes of this series not run\n";
-      run.handshake.timeouts += static_cast<std::size_t>(not_run);
-      ++run.stalls;
+      stop_series(run, "handshake " + std::to_string(i) + " got no outcome in 15 s",
+                  handshakes - std::max(0, i - warmup), 0);
       break;
     }
     const auto result = pending.get();
@@ -208,12 +214,10 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes, pid_t peer, 
     if (failures_in_a_row == 5) {
       // Five in a row is no noise: a side is stuck. Say so, and stop here
       // instead of spending seconds on each handshake left.
-      const int not_run = handshakes - std::max(0, i + 1 - warmup);
-      std::cerr << "equipment latency: 5 handshakes in a row failed (last: "
-                << dds::to_string(result.outcome) << "); " << not_run
-                << " timed handshakes of this series not run\n";
-      run.handshake.timeouts += static_cast<std::size_t>(not_run) + (i < warmup ? 0 : 1);
-      ++run.stalls;
+      stop_series(run,
+                  "5 handshakes in a row failed (last: " +
+                      std::string(dds::to_string(result.outcome)) + ")",
+                  handshakes - std::max(0, i + 1 - warmup), i < warmup ? 0 : 1);
       break;
     }
     if (i < warmup) {

@@ -218,6 +218,7 @@ Series run_both_ends_in_child(const Options& o, Transport t, int domain) {
                                          "--warmup",
                                          std::to_string(o.warmup)};
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (const auto& a : args) {
     argv.push_back(const_cast<char*>(a.c_str()));
   }
@@ -238,7 +239,7 @@ Series run_both_ends_in_child(const Options& o, Transport t, int domain) {
   close(fds[1]);
   std::string text;
   char buffer[4096];
-  for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) {
+  for (ssize_t n = 0; (n = read(fds[0], buffer, sizeof buffer)) > 0;) {
     text.append(buffer, static_cast<std::size_t>(n));
   }
   close(fds[0]);
@@ -251,7 +252,7 @@ Series run_both_ends_in_child(const Options& o, Transport t, int domain) {
   std::istringstream in(text);
   Series s;
   in >> s.timeouts >> s.cpu_us_per_op;
-  for (double v; in >> v;) {
+  for (double v = 0; in >> v;) {
     s.samples_us.push_back(v);
   }
   return s;
@@ -364,7 +365,8 @@ bool write_samples(const std::string& path, const std::vector<Series>& all) {
     std::sort(sorted.begin(), sorted.end());
     file << (i == 0 ? "\n" : ",\n") << "\"" << all[i].name << "\":[";
     for (std::size_t k = 0; k < sorted.size(); ++k) {
-      file << (k == 0 ? "" : ",") << static_cast<long long>(sorted[k] * 10) / 10.0;
+      file << (k == 0 ? "" : ",")
+           << static_cast<double>(static_cast<long long>(sorted[k] * 10)) / 10.0;
     }
     file << "]";
   }

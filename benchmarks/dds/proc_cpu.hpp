@@ -28,7 +28,9 @@ inline double thread_run_seconds(pid_t pid) {
   }
   std::uint64_t ns = 0;
   bool any = false;
-  while (const dirent* entry = readdir(tasks)) {
+  // glibc's readdir is safe on a stream no other thread reads; readdir_r is
+  // deprecated.
+  while (const dirent* entry = readdir(tasks)) {  // NOLINT(concurrency-mt-unsafe)
     if (entry->d_name[0] == '.') {
       continue;
     }

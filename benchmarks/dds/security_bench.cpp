@@ -59,13 +59,16 @@ std::string make_pki(const std::string& source) {
   char pattern[] = "/tmp/mtc-bench-security-XXXXXX";
   const char* dir = ::mkdtemp(pattern);
   if (dir == nullptr) throw std::runtime_error("mkdtemp failed");
-  const std::string root = dir;
+  std::string root = dir;
   std::ofstream(root + "/cell.txt")
       << "device bench-cnc requests=material_load reads=bench-robot\n"
          "device bench-robot provides=material_load reads=bench-cnc\n";
   const std::string command = "'" + source + "/scripts/security/make-pki.sh' --cell '" + root +
                               "/cell.txt' --out '" + root + "/pki' >/dev/null";
-  if (std::system(command.c_str()) != 0) throw std::runtime_error("make-pki.sh failed");
+  // Called first thing in main, before any participant starts a thread.
+  if (std::system(command.c_str()) != 0) {  // NOLINT(concurrency-mt-unsafe)
+    throw std::runtime_error("make-pki.sh failed");
+  }
   return root;
 }
 
@@ -187,7 +190,7 @@ int main(int argc, char** argv) {
     fs::remove_all(root);
     std::ostringstream json;
     json << "{\"benchmark\":\"security\",\"unit\":\"us\",\"series\":[";
-    for (std::size_t i = 0; i < all.size(); ++i) json << (i ? "," : "") << to_json(all[i]);
+    for (std::size_t i = 0; i < all.size(); ++i) json << (i > 0 ? "," : "") << to_json(all[i]);
     json << "]}\n";
     std::cout << json.str();
     if (!o.out.empty()) std::ofstream(o.out) << json.str();

@@ -115,8 +115,8 @@ Shared* map_shared() {
   return p == MAP_FAILED ? nullptr : new (p) Shared();
 }
 
-const char* kRequesterUuid = "idle-requester";
-const char* kResponderUuid = "idle-responder";
+constexpr const char* kRequesterUuid = "idle-requester";
+constexpr const char* kResponderUuid = "idle-responder";
 
 std::unique_ptr<mtc::dds::Equipment> make_side(const Options& o, bool requester,
                                                SideCounters& counters) {
@@ -187,7 +187,7 @@ int run_responder(const Options& o, Shared& shared) {
   publish_traffic(*eq, shared.responder);  // its start-up writes before any sample
   shared.responder.started.store(1);
   // Publishes its traffic for the parent's samples until told to stop.
-  const timespec period{0, 200 * 1000 * 1000};
+  const timespec period{0, 200L * 1000 * 1000};
   while (sigtimedwait(&stop_signals, nullptr, &period) < 0) {
     publish_traffic(*eq, shared.responder);
   }
@@ -341,8 +341,9 @@ void write_json(std::ostream& out, const Options& o, const Measured& m) {
   m.responder.write_json(out, o.window_s);
   out << "],\"verdicts\":{";
   for (std::size_t i = 0; i < v.size(); ++i) {
-    out << (i ? "," : "") << "\"" << v[i].name << "\":{\"pass\":" << (v[i].pass ? "true" : "false")
-        << ",\"detail\":\"" << v[i].detail << "\"}";
+    out << (i > 0 ? "," : "") << "\"" << v[i].name
+        << "\":{\"pass\":" << (v[i].pass ? "true" : "false") << ",\"detail\":\"" << v[i].detail
+        << "\"}";
   }
   out << "},\"pass\":" << (all_pass(v) ? "true" : "false") << "}\n";
 }

@@ -19,7 +19,9 @@ int count_fds(pid_t pid) {
     return -1;
   }
   int n = 0;
-  while (const dirent* entry = readdir(dir)) {
+  // glibc's readdir is safe on a stream no other thread reads; readdir_r is
+  // deprecated.
+  while (const dirent* entry = readdir(dir)) {  // NOLINT(concurrency-mt-unsafe)
     if (entry->d_name[0] != '.') {
       ++n;
     }
@@ -53,7 +55,7 @@ std::optional<ProcReading> read_proc(pid_t pid) {
   if (field.size() < 22 || field[0] == "Z" || field[0] == "X") {  // gone, not yet reaped
     return std::nullopt;
   }
-  static const double ticks = static_cast<double>(sysconf(_SC_CLK_TCK));
+  static const auto ticks = static_cast<double>(sysconf(_SC_CLK_TCK));
   static const std::int64_t page_kb = sysconf(_SC_PAGESIZE) / 1024;
   ProcReading r;
   r.cpu_s = static_cast<double>(std::stoll(field[11]) + std::stoll(field[12])) / ticks;  // 14, 15
@@ -170,7 +172,7 @@ void ProcSeries::write_json(std::ostream& out, double window_s) const {
   out << "{\"name\":\"" << name_ << "\",\"pid\":" << pid_ << ",\"samples\":[";
   for (std::size_t i = 0; i < samples_.size(); ++i) {
     const ProcSample& s = samples_[i];
-    out << (i ? "," : "") << "{\"t_s\":" << json_number(s.t_s)
+    out << (i > 0 ? "," : "") << "{\"t_s\":" << json_number(s.t_s)
         << ",\"cpu_s\":" << json_number(s.reading.cpu_s)
         << ",\"cpu_pct\":" << json_number(s.cpu_pct) << ",\"rss_kb\":" << s.reading.rss_kb
         << ",\"fds\":" << s.reading.fds << ",\"threads\":" << s.reading.threads

@@ -339,6 +339,7 @@ Level run_level(const Options& o, int pairs) {
     mtc::dds::Equipment eq(equipment_options(device("req", 0), o.domain), quiet_callbacks());
     add_pairing(eq, device("resp", 0), pairs);
     std::vector<mtc::dds::Requester*> requesters;
+    requesters.reserve(static_cast<std::size_t>(pairs));
     for (int k = 0; k < pairs; ++k) {
       requesters.push_back(&eq.add_requester(interface_id(k), Service::MaterialLoad));
     }
@@ -439,7 +440,8 @@ std::string level_json(const Level& l) {
        << ",\"p99\":" << sum.p99 << ",\"p999\":" << sum.p999 << ",\"max\":" << sum.max
        << ",\"cpu_requester_pct\":" << (l.seconds > 0 ? 100 * l.cpu_requester_s / l.seconds : 0)
        << ",\"cpu_responder_pct\":" << (l.seconds > 0 ? 100 * l.cpu_responder_s / l.seconds : 0)
-       << ",\"cpu_us_per_handshake\":" << (sum.count > 0 ? cpu * 1e6 / sum.count : 0)
+       << ",\"cpu_us_per_handshake\":"
+       << (sum.count > 0 ? cpu * 1e6 / static_cast<double>(sum.count) : 0)
        << ",\"requester_rss_kb\":" << l.requester_rss_kb
        << ",\"responder_rss_kb\":" << l.responder_rss_kb << "}";
   return json.str();

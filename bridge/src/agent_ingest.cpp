@@ -77,6 +77,15 @@ bool is_fit(const core::ObservedValue& v) {
          find_unfit_xml_char(v.interface_id) == std::string::npos;
 }
 
+// The configured instance id, else the start time in seconds (what the
+// reference agent does), so that a restart shows clients a new instance.
+std::uint64_t pick_instance_id(const AgentOptions& options) {
+  if (options.instance_id != 0) return options.instance_id;
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::seconds>(
+                                        std::chrono::system_clock::now().time_since_epoch())
+                                        .count());
+}
+
 SchemaVersion pick_version(const AgentOptions& options, const DeviceModel& model) {
   if (options.schema_version) return *options.schema_version;
   if (model.file_version()) return *model.file_version();
@@ -89,17 +98,12 @@ AgentImpl::AgentImpl(const AgentOptions& options)
     : options_(options),
       printer_(options.schema_version.value_or(SchemaVersion::V1_6)),
       json_printer_(printer_.version()),
-      buffer_(options.buffer_size) {
-  instance_id_ =
-      options.instance_id != 0
-          ? options.instance_id
-          : static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::seconds>(
-                                           std::chrono::system_clock::now().time_since_epoch())
-                                           .count());
-  max_count_ = options.max_count == 0 ? options.buffer_size
-                                      : std::min(options.max_count, options.buffer_size);
+      instance_id_(pick_instance_id(options)),
+      max_count_(options.max_count == 0 ? options.buffer_size
+                                        : std::min(options.max_count, options.buffer_size)),
+      buffer_(options.buffer_size),
+      model_change_ns_(now_ns()) {
   routes_ = make_routes();
-  model_change_ns_ = now_ns();
   if (!options.devices_file.empty()) {
     model_ = DeviceModel::from_file(options.devices_file, slots_, options.devices_limits);
     printer_ = Printer(pick_version(options, model_));
@@ -148,7 +152,7 @@ void AgentImpl::rebuild_model() {
   for (auto it = pending_.begin(); it != pending_.end();) {
     if (const auto item = model_.find_item(it->first.first, it->first.second)) {
       const core::ObservedValue& v = it->second;
-      const std::int64_t t = v.source_time_ns ? v.source_time_ns : model_change_ns_;
+      const std::int64_t t = v.source_time_ns != 0 ? v.source_time_ns : model_change_ns_;
       append_if_changed(model_.data_items()[*item].slot, core::to_string(v.state), t);
       it = pending_.erase(it);
     } else {
@@ -295,7 +299,7 @@ void AgentImpl::add_value(const core::ObservedValue& received) {
       ++stats_.unknown_values;
       stats_.last_unknown = value.device_uuid + "/" + value.data_item_id;
       const std::pair<std::string, std::string> key{value.device_uuid, value.data_item_id};
-      if (!from_file_ && (pending_.size() < kMaxPending || pending_.count(key))) {
+      if (!from_file_ && (pending_.size() < kMaxPending || pending_.count(key) > 0)) {
         pending_[key] = value;  // applied if an announcement brings the item
       }
       if (from_file_ && options_.on_warning && warned_.size() < kMaxPending &&
@@ -312,9 +316,9 @@ void AgentImpl::add_value(const core::ObservedValue& received) {
       return;
     }
     const std::uint64_t before = buffer_.next_sequence();
-    const std::int64_t t = value.source_time_ns      ? value.source_time_ns
-                           : value.reception_time_ns ? value.reception_time_ns
-                                                     : now_ns();
+    const std::int64_t t = value.source_time_ns != 0      ? value.source_time_ns
+                           : value.reception_time_ns != 0 ? value.reception_time_ns
+                                                          : now_ns();
     const DataItemInfo& info = model_.data_items()[*item];
     append_if_changed(info.slot, core::to_string(value.state), t);
     // A device that sends values is reachable, announced or not.
@@ -341,7 +345,9 @@ void AgentImpl::items_lost(const std::string& received_uuid,
         append_if_changed(model_.data_items()[*item].slot, kUnavailable, t);
       } else {
         ++stats_.unknown_values;
-        stats_.last_unknown = device_uuid + "/" + id;
+        stats_.last_unknown = device_uuid;
+        stats_.last_unknown += '/';
+        stats_.last_unknown += id;
       }
     }
     appended = buffer_.next_sequence() - before;

@@ -32,13 +32,11 @@ std::size_t printed_size(const DataItemInfo& item, const Observation& o) {
          item.sub_type.size() + item.type.size() + o.value.size();
 }
 
-}  // namespace
-
-Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
-  const auto first = static_cast<std::int64_t>(buffer_.first_sequence());
-  const auto next = static_cast<std::int64_t>(buffer_.next_sequence());
-  const auto max_count = static_cast<std::int64_t>(max_count_);
-  const std::int64_t count = q.count.value();  // the route table gives its default
+// Throws the error a /sample request with these from, to and count gets
+// against a buffer holding [first, next).
+void check_sample_range(const Query& q, std::int64_t first, std::int64_t next,
+                        std::int64_t max_count) {
+  const std::int64_t count = q.count.value();
   if (q.from && (*q.from < first || *q.from > next)) {
     throw out_of_range("'from' must be between " + std::to_string(first) + " and " +
                        std::to_string(next));
@@ -53,6 +51,15 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
                        "'count' must be at most " + std::to_string(max_count) + " in magnitude"};
   }
   if (q.to && count < 0) throw out_of_range("'count' must be positive when 'to' is given");
+}
+
+}  // namespace
+
+Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
+  const auto first = static_cast<std::int64_t>(buffer_.first_sequence());
+  const auto next = static_cast<std::int64_t>(buffer_.next_sequence());
+  const std::int64_t count = q.count.value();  // the route table gives its default
+  check_sample_range(q, first, next, static_cast<std::int64_t>(max_count_));
 
   const std::vector<std::int32_t> filter = item_filter(q);
   auto selected = [&](std::uint64_t seq) -> const Observation* {
@@ -73,7 +80,7 @@ Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
     entries.push_back({item, o});
     return true;
   };
-  std::uint64_t end = upper;
+  std::uint64_t end = 0;
   if (count > 0) {
     std::uint64_t seq = lower;
     for (; seq < upper && entries.size() < wanted; ++seq) {
@@ -105,7 +112,7 @@ Routed AgentImpl::stream(const Query& q, bool is_sample) const {
   plan.is_sample = is_sample;
   plan.interval = std::chrono::milliseconds(*q.interval);
   plan.heartbeat = std::chrono::milliseconds(q.heartbeat.value());  // or the route's default
-  plan.parameters = q;
+  plan.parameters = static_cast<const RequestParameters&>(q);       // the parameters only
   if (is_sample) {
     std::uint64_t next = 0;
     Response first_part = sample(q, next);  // range checks of from/count

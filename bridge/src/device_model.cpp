@@ -107,8 +107,9 @@ void DeviceModel::index(SlotRegistry& slots) {
     for (pugi::xml_node di : dev.child("DataItems").children("DataItem")) {
       if (std::string_view(di.attribute("type").value()) == "AVAILABILITY") {
         const auto it = item_by_xml_id_.find(di.attribute("id").value());
-        if (it != item_by_xml_id_.end())
+        if (it != item_by_xml_id_.end()) {
           devices_[device].availability_slot = items_[it->second].slot;
+        }
         break;
       }
     }

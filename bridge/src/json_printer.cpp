@@ -87,7 +87,9 @@ void write_element(JsonWriter& w, pugi::xml_node e);
 // name repeats, else one object.
 void write_children(JsonWriter& w, pugi::xml_node e, std::string_view name) {
   std::size_t count = 0;
-  for (pugi::xml_node c : e.children()) count += c.type() == pugi::node_element && c.name() == name;
+  for (pugi::xml_node c : e.children()) {
+    if (c.type() == pugi::node_element && c.name() == name) ++count;
+  }
   w.key(name);
   if (!is_list_element(e) && count == 1) {
     write_element(w, e.child(std::string(name).c_str()));

@@ -5,7 +5,9 @@
 // announcements over with their text already fit for XML (make_xml_safe).
 #include <cctype>
 #include <map>
+#include <string>
 #include <tuple>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "mtc/bridge/device_model.hpp"
@@ -34,10 +36,10 @@ class IdMaker {
     std::string id = text.empty() ? fallback : text;
     for (char& c : id) {
       const auto uc = static_cast<unsigned char>(c);
-      if (!std::isalnum(uc) && c != '_' && c != '-' && c != '.') c = '_';
+      if (std::isalnum(uc) == 0 && c != '_' && c != '-' && c != '.') c = '_';
     }
     const auto first = static_cast<unsigned char>(id.front());
-    if (!std::isalpha(first) && id.front() != '_') id.insert(0, "_");
+    if (std::isalpha(first) == 0 && id.front() != '_') id.insert(0, "_");
     std::string unique = id;
     for (int n = 2; !used_.insert(unique).second; ++n) unique = id + "_" + std::to_string(n);
     return unique;
@@ -61,6 +63,38 @@ std::map<std::string, int> count_ids(const std::vector<core::ObservedDevice>& de
   return uses;
 }
 
+// One announced data item as a DataItem element with id `xml_id`.
+void append_data_item(pugi::xml_node items, const core::ObservedDataItem& di,
+                      const std::string& xml_id) {
+  pugi::xml_node node = items.append_child("DataItem");
+  const bool known_category =
+      di.category == "SAMPLE" || di.category == "EVENT" || di.category == "CONDITION";
+  node.append_attribute("category") = known_category ? di.category.c_str() : "EVENT";
+  node.append_attribute("id") = xml_id.c_str();
+  if (!di.name.empty()) node.append_attribute("name") = di.name.c_str();
+  node.append_attribute("type") = di.type.c_str();
+  if (!di.sub_type.empty()) node.append_attribute("subType") = di.sub_type.c_str();
+}
+
+// AVAILABILITY, and the asset items every device of the reference agent
+// has (the bridge keeps no assets: they read UNAVAILABLE), each mapped in
+// `source_of` to the key its values arrive under.
+void append_device_items(pugi::xml_node dev, const std::string& dev_id, IdMaker& ids,
+                         std::unordered_map<std::string, std::string>& source_of) {
+  pugi::xml_node device_items = dev.append_child("DataItems");
+  for (const auto& [suffix, type, key] :
+       {std::tuple{"_avail", "AVAILABILITY", &kAvailabilityKey},
+        std::tuple{"_asset_chg", "ASSET_CHANGED", &kAssetChangedKey},
+        std::tuple{"_asset_rem", "ASSET_REMOVED", &kAssetRemovedKey}}) {
+    pugi::xml_node item = device_items.append_child("DataItem");
+    const std::string item_id = ids.make(dev_id + suffix, "item");
+    item.append_attribute("category") = "EVENT";
+    item.append_attribute("id") = item_id.c_str();
+    item.append_attribute("type") = type;
+    source_of[item_id] = *key;
+  }
+}
+
 }  // namespace
 
 DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevice>& devices,
@@ -77,24 +111,14 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
     dev.append_attribute("name") = name.c_str();
     dev.append_attribute("uuid") = announced.device_uuid.c_str();
 
-    // AVAILABILITY, and the asset items every device of the reference
-    // agent has (the bridge keeps no assets: they read UNAVAILABLE).
-    pugi::xml_node device_items = dev.append_child("DataItems");
-    for (const auto& [suffix, type, key] :
-         {std::tuple{"_avail", "AVAILABILITY", &kAvailabilityKey},
-          std::tuple{"_asset_chg", "ASSET_CHANGED", &kAssetChangedKey},
-          std::tuple{"_asset_rem", "ASSET_REMOVED", &kAssetRemovedKey}}) {
-      pugi::xml_node item = device_items.append_child("DataItem");
-      const std::string item_id = ids.make(dev_id + suffix, "item");
-      item.append_attribute("category") = "EVENT";
-      item.append_attribute("id") = item_id.c_str();
-      item.append_attribute("type") = type;
-      model.source_of_xml_id_[item_id] = *key;
-    }
-
+    append_device_items(dev, dev_id, ids, model.source_of_xml_id_);
     auto qualified = [&](const std::string& id) {
       const auto it = uses.find(id);
-      return it != uses.end() && it->second > 1 ? dev_id + "_" + id : id;
+      if (it == uses.end() || it->second <= 1) return id;
+      std::string unique = dev_id;
+      unique += '_';
+      unique += id;
+      return unique;
     };
     pugi::xml_node interfaces;
     for (const core::ObservedInterface& itf : announced.interfaces) {
@@ -115,15 +139,8 @@ DeviceModel DeviceModel::from_announcements(const std::vector<core::ObservedDevi
         if (di.id.empty() || !is_data_item_type(di.type)) continue;
         if (!di.sub_type.empty() && !is_data_item_type(di.sub_type)) continue;
         if (!items) items = comp.append_child("DataItems");
-        pugi::xml_node node = items.append_child("DataItem");
         const std::string xml_id = ids.make(qualified(di.id), "item");
-        const bool known_category =
-            di.category == "SAMPLE" || di.category == "EVENT" || di.category == "CONDITION";
-        node.append_attribute("category") = known_category ? di.category.c_str() : "EVENT";
-        node.append_attribute("id") = xml_id.c_str();
-        if (!di.name.empty()) node.append_attribute("name") = di.name.c_str();
-        node.append_attribute("type") = di.type.c_str();
-        if (!di.sub_type.empty()) node.append_attribute("subType") = di.sub_type.c_str();
+        append_data_item(items, di, xml_id);
         if (xml_id != di.id) model.source_of_xml_id_[xml_id] = di.id;
       }
     }

@@ -212,7 +212,7 @@ void add_asset_items(pugi::xml_node devices, const std::set<std::string>& used_i
     }
     for (const auto& [type, suffix] :
          {std::pair{"ASSET_CHANGED", "_asset_chg"}, std::pair{"ASSET_REMOVED", "_asset_rem"}}) {
-      if (items.find_child_by_attribute("DataItem", "type", type)) continue;
+      if (!items.find_child_by_attribute("DataItem", "type", type).empty()) continue;
       std::string id = std::string(dev.attribute("id").value()) + suffix;
       for (int n = 2; !ids.insert(id).second; ++n) {
         id = std::string(dev.attribute("id").value()) + suffix + "_" + std::to_string(n);

@@ -68,7 +68,10 @@ std::optional<std::size_t> DeviceModel::resolve_item(const std::string& device_u
   };
   for (const std::string& prefix : {dev.id, dev.name}) {
     for (const char sep : {'_', '.'}) {
-      const auto it = item_by_xml_id_.find(prefix + sep + source_id);
+      std::string xml_id = prefix;
+      xml_id += sep;
+      xml_id += source_id;
+      const auto it = item_by_xml_id_.find(xml_id);
       if (it != item_by_xml_id_.end() && items_[it->second].device == *device &&
           !claimed_[it->second]) {
         return remember(it->second);

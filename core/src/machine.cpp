@@ -78,9 +78,14 @@ Event seen_event(InteractionState observed) noexcept {
 
 ServiceMachine::ServiceMachine(Role role, Service service, const MachineOptions& options,
                                const ServicePreconditions* hook) noexcept
-    : role_(role), service_(service), options_(options), hook_(hook) {
-  wants_ready_ = options_.start_ready;
-  phase_ = resolve(Target::Idle);
+    : role_(role),
+      service_(service),
+      options_(options),
+      hook_(hook),
+      wants_ready_(options.start_ready) {
+  // Not in the initialiser list: resolve() reads wants_ready_, which is
+  // declared (so initialised) after phase_.
+  phase_ = resolve(Target::Idle);  // NOLINT(cppcoreguidelines-prefer-member-initializer)
 }
 
 // Whether a counterpart value acknowledges our FAIL. A FAIL counts only when

@@ -261,7 +261,8 @@ constexpr auto kResponderTable =
 // lookup never falls off the table.
 template <std::size_t N>
 constexpr bool has_fallback(const std::array<Transition, N>& table, P phase, E event) {
-  for (const auto& r : table) {
+  // A loop, not std::any_of: that is constexpr only from C++20.
+  for (const auto& r : table) {  // NOLINT(readability-use-anyofallof)
     if ((r.from == phase || r.from == P::Any) && r.event == event && r.guard == G::Always &&
         r.guard2 == G::Always) {
       return true;

@@ -134,8 +134,9 @@ class DeviceOwners {
   // instance disposed or left without writers): the uuid is free again.
   // Returns the held announcement to replay, if any.
   std::optional<DeviceEvent> release_writer(const Handle& writer) {
-    for (auto it = owners_.begin(); it != owners_.end(); ++it) {
-      if (it->second.writer == writer) return release_device(it->first);
+    for (const auto& [device, owner] : owners_) {
+      // A copy of the key: release_device erases the entry that holds it.
+      if (owner.writer == writer) return release_device(std::string(device));
     }
     return std::nullopt;
   }
@@ -172,8 +173,8 @@ class DeviceOwners {
   }
 
   struct Owner {
-    ParticipantKey participant;
-    Handle writer;
+    ParticipantKey participant{};
+    Handle writer{};
     bool lost = false;  // its heartbeats stopped; the next announcer takes over
   };
   std::map<std::string, Owner> owners_;

@@ -260,7 +260,9 @@ struct DomainObserver::Impl {
   // with the device's own lease) or the writer went away (not checked).
   void heartbeat_writer_lost(const detail::WriterLivelinessEvent& e,
                              const detail::PeerGroupKey& key) {
-    const auto copy = key;
+    // A copy, not a reference: `key` lives in the peer_groups entry that
+    // forget_writer() below erases.
+    const auto copy = key;  // NOLINT(performance-unnecessary-copy-initialization)
     if (!e.unmatched) {
       const auto* group = peer_groups.find(copy);
       if (group == nullptr) return;
@@ -336,7 +338,7 @@ struct DomainObserver::Impl {
   }
   // The observer requests no DEADLINE; a miss would be a cue, not a verdict.
   void handle(detail::DeadlineMissedEvent&) {}
-  void handle(detail::IncompatibleQosEvent& e) {
+  static void handle(detail::IncompatibleQosEvent& e) {
     std::cerr << "mtc::dds::DomainObserver: a writer on " << detail::topic_name(e.topic)
               << " offers QoS incompatible with the observer (policy id " << e.policy
               << "); is its liveliness lease longer than the observer's?\n";

@@ -48,19 +48,19 @@ using StateChanges = std::array<std::uint64_t, kStateTopicCount>;
 using ParticipantKey = std::array<std::uint8_t, 12>;
 
 struct ValueEvent {
-  TopicKind topic;
-  Handle writer;
-  Handle instance;
+  TopicKind topic{};
+  Handle writer{};
+  Handle instance{};
   ObservedValue value;
 };
 struct HeartbeatEvent {
-  Handle writer;
-  Handle instance;
+  Handle writer{};
+  Handle instance{};
   ObservedHeartbeat heartbeat;
 };
 struct DeviceEvent {
-  Handle writer;
-  Handle instance;
+  Handle writer{};
+  Handle instance{};
   ObservedDevice device;
 };
 // An instance was disposed or lost all its writers.
@@ -70,9 +70,9 @@ struct InstanceGoneEvent {
 };
 // A writer stopped asserting liveliness (or went away) / came back.
 struct WriterLivelinessEvent {
-  TopicKind topic;
-  Handle writer;
-  bool alive;
+  TopicKind topic{};
+  Handle writer{};
+  bool alive = false;
   bool unmatched = false;  // the writer went away (deleted, participant gone)
 };
 struct DeadlineMissedEvent {

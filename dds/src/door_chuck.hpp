@@ -21,8 +21,8 @@ struct DoorChuck;
 template <>
 struct DoorChuck<core::DoorState> {
   using Sample = idl::DoorStateSample;
-  static constexpr TopicKind topic = TopicKind::DoorState;
-  static constexpr std::string_view item_type = "DOOR_STATE";
+  static constexpr TopicKind kTopic = TopicKind::DoorState;
+  static constexpr std::string_view kItemType = "DOOR_STATE";
   static std::string item_id(std::string_view interface_id) {
     return topics::door_state_item_id(interface_id);
   }
@@ -36,8 +36,8 @@ struct DoorChuck<core::DoorState> {
 template <>
 struct DoorChuck<core::ChuckState> {
   using Sample = idl::ChuckStateSample;
-  static constexpr TopicKind topic = TopicKind::ChuckState;
-  static constexpr std::string_view item_type = "CHUCK_STATE";
+  static constexpr TopicKind kTopic = TopicKind::ChuckState;
+  static constexpr std::string_view kItemType = "CHUCK_STATE";
   static std::string item_id(std::string_view interface_id) {
     return topics::chuck_state_item_id(interface_id);
   }

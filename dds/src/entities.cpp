@@ -48,9 +48,9 @@ Participant::~Participant() {
          "delete_participant");
 }
 
-void Participant::register_type(fdds::TypeSupport type) {
+void Participant::register_type(const fdds::TypeSupport& type) {
   if (participant_->find_type(type.get_type_name()).empty()) {
-    const std::string name = type.get_type_name();
+    const std::string& name = type.get_type_name();
     check(type.register_type(participant_), "register_type " + name);
   }
 }
@@ -137,8 +137,8 @@ void WriterBase::dispose_untyped(void* sample, const char* what) {
 
 Reader::Reader(Subscriber& subscriber, Topic& topic, const fdds::DataReaderQos& qos,
                fdds::DataReaderListener* listener, const fdds::StatusMask& mask)
-    : subscriber_(subscriber) {
-  reader_ = subscriber.get().create_datareader(&topic.get(), qos, listener, mask);
+    : subscriber_(subscriber),
+      reader_(subscriber.get().create_datareader(&topic.get(), qos, listener, mask)) {
   if (reader_ == nullptr) {
     throw CreationError("create_datareader " + topic.get().get_name());
   }

@@ -299,7 +299,7 @@ std::future<void> EquipmentImpl::set_door_chuck(const std::string& interface_id,
   auto* itf = &interface_slot(interface_id);
   if (!itf->door_chuck_item<State>().published) {
     throw ConfigError("interface " + interface_id + " does not publish " +
-                      std::string(detail::DoorChuck<State>::item_type));
+                      std::string(detail::DoorChuck<State>::kItemType));
   }
   return run<void>([this, itf, state] {
     itf->door_chuck_item<State>().state = state;

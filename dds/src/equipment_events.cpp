@@ -97,7 +97,7 @@ bool complements(const EquipmentImpl& impl, const InterfaceSlot& itf,
   if (itf.services.empty()) return true;
   for (auto index : itf.services) {
     const auto& s = *impl.slots[index];
-    const auto wanted = s.role == core::Role::Requester ? "RESPONSE" : "REQUEST";
+    const auto* const wanted = s.role == core::Role::Requester ? "RESPONSE" : "REQUEST";
     for (const auto& item : other.data_items) {
       if (item.type == core::to_string(s.service) && item.sub_type == wanted) return true;
     }
@@ -465,7 +465,8 @@ void EquipmentImpl::on_heartbeat_writer_lost(std::size_t group, const detail::Pe
 // A counterpart's heartbeats stopped for a lease (or its heartbeat writer
 // left): its participant no longer owns the device, and an announcement of
 // the same uuid by another one (a restart) takes over.
-void EquipmentImpl::owner_silent(std::size_t group, detail::PeerGroupKey key, bool check_silence) {
+void EquipmentImpl::owner_silent(std::size_t group, const detail::PeerGroupKey& key,
+                                 bool check_silence) {
   if (check_silence) {
     const auto* pg = peer_groups.find(key);
     if (pg == nullptr) return;

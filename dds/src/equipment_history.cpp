@@ -53,7 +53,7 @@ void EquipmentImpl::for_each_item(std::size_t group, TopicKind topic, Fn&& fn) {
         detail::for_door_and_chuck([&](auto tag) {
           using State = typename decltype(tag)::type;
           auto& dc = itf->template door_chuck_item<State>();
-          if (!dc.published || detail::DoorChuck<State>::topic != topic) return;
+          if (!dc.published || detail::DoorChuck<State>::kTopic != topic) return;
           fn(dc.item, [&] { publish_door_chuck<State>(*itf, dc.item.changed_ns); });
         });
         break;
@@ -78,6 +78,8 @@ void EquipmentImpl::bound_history(std::size_t group, TopicKind topic) {
   bounding_history = true;
   struct Guard {
     bool& flag;
+    Guard(const Guard&) = delete;
+    Guard& operator=(const Guard&) = delete;
     ~Guard() { flag = false; }
   } guard{bounding_history};
   const std::uint64_t keep_from = newest - limit / 2;

@@ -170,7 +170,7 @@ struct EquipmentImpl {
   // not: an interface that pairs later starts from what is already known
   // (items are written on change only; nothing else would bring them).
   struct SeenValue {
-    detail::Handle writer;
+    detail::Handle writer{};
     ObservedValue value;
   };
   std::map<std::pair<std::string, std::string>, SeenValue> seen_values;
@@ -193,8 +193,9 @@ struct EquipmentImpl {
   // --- lifecycle (equipment.cpp) ---
   InterfaceSlot& interface_slot(const std::string& id) const;
   std::size_t add_slot(const std::string& interface_id, core::Service service, core::Role role,
-                       const ServiceOptions& options);
+                       const ServiceOptions& opts);
   void create_entities();
+  void group_by_timing();
   void create_group(std::size_t index);
   TimingGroup& group_of(const InterfaceSlot& itf) const { return *groups[itf.group]; }
   void shutdown() noexcept;
@@ -241,8 +242,8 @@ struct EquipmentImpl {
   // --- DDS events (equipment_events.cpp) ---
   void on_event(std::size_t group, detail::TapEvent& event);
   void on_value(std::size_t group, detail::ValueEvent& e);
-  void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
-                              const ObservedValue& v);
+  static void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
+                                     const ObservedValue& v);
   void deliver(InterfaceSlot& itf, const ObservedValue& v, bool missed_change);
   void on_heartbeat(std::size_t group, detail::HeartbeatEvent& e);
   void redeliver_stale(InterfaceSlot& itf);
@@ -258,7 +259,7 @@ struct EquipmentImpl {
   void check_silence();
   void on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
                                 const char* cause, bool check_silence);
-  void owner_silent(std::size_t group, detail::PeerGroupKey key, bool check_silence);
+  void owner_silent(std::size_t group, const detail::PeerGroupKey& key, bool check_silence);
   // Counterparts lost by silence (timing group, heartbeat group key): they
   // no longer own their device, whichever check found them, after the links
   // (a takeover pairs anew). The liveliness cue that would say so is ignored

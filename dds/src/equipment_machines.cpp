@@ -74,8 +74,9 @@ void EquipmentImpl::handle_result(ServiceSlot& slot, const core::StepResult& r,
     ev.counterpart = machine->counterpart();
     ev.trigger_source_time_ns = source_ns;
     ev.trigger_receive_time_ns = receive_ns;
-    if (callbacks.on_transition)
+    if (callbacks.on_transition) {
       guard_callback("on_transition", [&] { callbacks.on_transition(ev); });
+    }
   }
   resolve_pending(slot, r);
   if (slot.role != core::Role::Responder) return;

@@ -17,8 +17,8 @@ std::string describe(const eprosima::fastrtps::Duration_t& d) {
     return "infinite";
   }
   std::ostringstream out;
-  out << std::chrono::duration_cast<std::chrono::microseconds>(to_chrono(d)).count() / 1000.0
-      << " ms";
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(to_chrono(d)).count();
+  out << static_cast<double>(us) / 1000.0 << " ms";
   return out.str();
 }
 
@@ -79,7 +79,7 @@ std::string join(const std::vector<std::string>& v) {
   }
   std::string out = "[";
   for (std::size_t i = 0; i < v.size(); ++i) {
-    out += (i ? ", \"" : "\"") + v[i] + "\"";
+    out += (i > 0 ? ", \"" : "\"") + v[i] + "\"";
   }
   return out + "]";
 }
@@ -118,7 +118,7 @@ void check_policies(const fdds::DataWriterQos& w, const fdds::DataReaderQos& r,
                       ", reader is " + name(r.ownership().kind));
   }
   if (w.destination_order().kind < r.destination_order().kind) {
-    reasons.push_back(
+    reasons.emplace_back(
         "destination order: reader requests BY_SOURCE_TIMESTAMP but writer offers "
         "BY_RECEPTION_TIMESTAMP");
   }

@@ -134,7 +134,7 @@ std::vector<std::string> preset_names() {
 std::string profiles_file_path() {
   // Prefer the installed copy; a build tree that was never installed uses
   // the source copy, which is the same file.
-  const std::string installed = MTC_QOS_PROFILES_INSTALLED;
+  std::string installed = MTC_QOS_PROFILES_INSTALLED;
   if (std::ifstream(installed).good()) {
     return installed;
   }

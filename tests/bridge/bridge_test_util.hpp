@@ -93,7 +93,8 @@ inline std::string cell_item(const std::string& itf, const char* service, const 
 
 inline core::ObservedInterface cell_interface(
     const std::string& id, core::InterfaceType type,
-    std::vector<std::pair<const char*, const char*>> services, const char* state_type = nullptr) {
+    const std::vector<std::pair<const char*, const char*>>& services,
+    const char* state_type = nullptr) {
   std::vector<core::ObservedDataItem> items{item(id + "_interface_state", "INTERFACE_STATE")};
   if (state_type) {
     std::string lower(state_type);
@@ -171,7 +172,7 @@ struct Doc {
   std::size_t count(const char* xpath) const { return xml.select_nodes(xpath).size(); }
   std::string text(const char* xpath) const {
     const pugi::xpath_node n = xml.select_node(xpath);
-    if (n.attribute()) return n.attribute().value();
+    if (n.attribute() != nullptr) return n.attribute().value();
     return n.node().text().get();
   }
   std::uint64_t number(const char* xpath) const { return std::stoull("0" + text(xpath)); }

@@ -230,9 +230,9 @@ TEST(Agent, SampleHonoursFromCountAndTo) {
   auto agent = test::announced_cell();
   const std::uint64_t start = agent->next_sequence();
   for (int i = 0; i < 10; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.material_load.req",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   Doc d(get(*agent, "/sample?from=" + std::to_string(start) + "&count=4").body);
   ASSERT_EQ(d.count("//MaterialLoad"), 4u);
@@ -251,9 +251,9 @@ TEST(Agent, SampleHonoursFromCountAndTo) {
 TEST(Agent, SampleAfterWrapAroundStartsAtFirstSequence) {
   auto agent = test::announced_cell(SchemaVersion::V1_6, 16);
   for (int i = 0; i < 100; ++i) {
-    agent->add_value(value("robot-0001", "robot.open_door.req",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "robot-0001", "robot.open_door.req",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   Doc d(get(*agent, "/sample").body);
   EXPECT_EQ(d.count("//OpenDoor"), 16u);

@@ -70,9 +70,9 @@ TEST(ReferenceAgent, NegativeCountWalksBackAndPointsBelowTheOldest) {
   auto agent = test::announced_cell();
   const std::uint64_t start = agent->next_sequence();
   for (int i = 0; i < 10; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.material_load.req",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   // The last three: start+7 .. start+9; nextSequence start+6, the one a
   // client walking back asks for next.
@@ -144,6 +144,7 @@ TEST(ReferenceAgent, CreationTimeIsTheResponseTimeEvenFromTheCache) {
   const std::vector<std::string> targets{"/current", "/probe", "/current?format=json",
                                          "/robot/probe"};
   std::vector<std::string> first;
+  first.reserve(targets.size());
   for (const std::string& t : targets) first.push_back(get(*agent, t).body);  // cached now
   // Polls the clock (at most a second) until its second turns.
   using std::chrono::floor;

@@ -73,7 +73,7 @@ TEST(DevicesFileReferences, AValueNoItemTakesIsReportedOnceByName) {
   for (int i = 0; i < 5; ++i) {
     core::ObservedValue v =
         machine_value("bar_feeder", "bar_feeder_material_feed_request",
-                      i % 2 ? core::InteractionState::Ready : core::InteractionState::Active);
+                      i % 2 != 0 ? core::InteractionState::Ready : core::InteractionState::Active);
     v.service = core::Service::MaterialFeed;
     v.sub_type = core::SubType::Request;
     agent->add_value(v);

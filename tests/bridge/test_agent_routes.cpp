@@ -26,7 +26,7 @@ void feed(MtconnectAgent& agent, int values) {
   for (int i = 0; i < values; ++i) {
     agent.add_value(test::value(
         "mill-0001", "mill.material_load.req",
-        i % 2 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
 }
 

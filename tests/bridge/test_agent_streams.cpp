@@ -36,9 +36,9 @@ TEST(AgentStreams, PartsWalkTheBufferInCountSizedChunks) {
   auto agent = test::announced_cell();
   const std::uint64_t start = agent->next_sequence();
   for (int i = 0; i < 7; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.material_load.req",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   Routed r = agent->route("GET", "/sample?interval=10&count=3&from=" + std::to_string(start) +
                                      "&path=//DataItem[@type='MATERIAL_LOAD']");
@@ -73,9 +73,9 @@ TEST(AgentStreams, StreamThatFellBehindGetsOutOfRange) {
   ASSERT_TRUE(r.stream);
   StreamPlan plan = *r.stream;
   for (int i = 0; i < 30; ++i) {
-    agent->add_value(value("mill-0001", "mill.material_load.req",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.material_load.req",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   const Response p = agent->next_part(plan);
   EXPECT_EQ(p.status, 400);
@@ -108,7 +108,8 @@ TEST(AgentStreams, WaitForWakesOnNewData) {
   EXPECT_EQ(notified.get_future().wait_for(std::chrono::seconds(30)), std::future_status::ready);
   agent->unsubscribe(id);
   // A duplicate adds nothing and notifies nobody.
-  agent->add_value(value("mill-0001", "mill.mh.state", core::InterfaceState::Enabled, kT0, 1));
+  agent->add_value(value("mill-0001", "mill.mh.state", core::InterfaceState::Enabled, kT0,
+                         /*redelivered=*/true));
   EXPECT_EQ(agent->next_sequence(), next + 1);
 }
 
@@ -117,6 +118,7 @@ TEST(AgentStreams, ConcurrentProducersAndReaders) {
   std::atomic<bool> stop{false};
   std::vector<std::thread> readers;
   std::atomic<int> bad{0};
+  readers.reserve(3);
   for (int t = 0; t < 3; ++t) {
     readers.emplace_back([&] {
       while (!stop) {
@@ -129,9 +131,9 @@ TEST(AgentStreams, ConcurrentProducersAndReaders) {
     });
   }
   for (int i = 0; i < 5000; ++i) {
-    agent->add_value(value("mill-0001", "mill.open_door.rsp",
-                           i % 2 ? core::InteractionState::Active : core::InteractionState::Ready,
-                           kT0 + i));
+    agent->add_value(value(
+        "mill-0001", "mill.open_door.rsp",
+        i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
   }
   stop = true;
   for (auto& t : readers) t.join();

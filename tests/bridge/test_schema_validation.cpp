@@ -38,19 +38,21 @@ class SchemaValidation : public ::testing::TestWithParam<SchemaVersion> {
     ASSERT_TRUE(fs::exists(schema("MTConnectStreams", GetParam())))
         << "MTConnect schemas not found in MTC_SCHEMA_DIR=" << MTC_SCHEMA_DIR
         << " (configure with -DMTC_SCHEMA_DIR=<folder with the official XSDs>)";
-    ASSERT_EQ(std::system((std::string(MTC_XMLLINT) + " --version > /dev/null 2>&1").c_str()), 0)
+    const std::string probe = std::string(MTC_XMLLINT) + " --version > /dev/null 2>&1";
+    // SetUp runs on the test's only thread.
+    ASSERT_EQ(std::system(probe.c_str()), 0)  // NOLINT(concurrency-mt-unsafe)
         << "xmllint not found (Debian package libxml2-utils)";
     agent_ = test::announced_cell(GetParam(), 64);
     for (int i = 0; i < 80; ++i) {  // wraps the 64-entry buffer
-      agent_->add_value(
-          value("mill-0001", "mill.open_door.rsp",
-                i % 2 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
+      agent_->add_value(value(
+          "mill-0001", "mill.open_door.rsp",
+          i % 2 != 0 ? core::InteractionState::Active : core::InteractionState::Ready, kT0 + i));
       agent_->add_value(value("mill-0001", "mill.door.door_state",
-                              i % 2 ? core::DoorState::Unlatched : core::DoorState::Closed,
+                              i % 2 != 0 ? core::DoorState::Unlatched : core::DoorState::Closed,
                               kT0 + i));
-      agent_->add_value(
-          value("mill-0001", "mill.door.state",
-                i % 2 ? core::InterfaceState::Enabled : core::InterfaceState::Disabled, kT0 + i));
+      agent_->add_value(value(
+          "mill-0001", "mill.door.state",
+          i % 2 != 0 ? core::InterfaceState::Enabled : core::InterfaceState::Disabled, kT0 + i));
     }
     agent_->add_value(
         value("robot-0001", "robot.material_load.rsp", core::InteractionState::Complete, kT0));

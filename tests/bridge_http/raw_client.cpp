@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <system_error>
@@ -63,7 +64,7 @@ std::optional<HttpResponse> take_head(std::string& buffer) {
   const auto status_line = buffer.substr(0, line_end);
   response.version = status_line.substr(0, status_line.find(' '));
   if (status_line.size() > 12) {
-    response.status = std::atoi(status_line.c_str() + 9);
+    response.status = static_cast<int>(std::strtol(status_line.c_str() + 9, nullptr, 10));
   }
   response.headers = parse_headers(buffer, line_end + 2, end);
   buffer.erase(0, end + 4);
@@ -72,8 +73,8 @@ std::optional<HttpResponse> take_head(std::string& buffer) {
 
 }  // namespace
 
-RawClient::RawClient(std::uint16_t port, const ConnectOptions& options) {
-  fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+RawClient::RawClient(std::uint16_t port, const ConnectOptions& options)
+    : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
   if (fd_ < 0) {
     throw std::runtime_error(std::string("socket: ") + std::generic_category().message(errno));
   }

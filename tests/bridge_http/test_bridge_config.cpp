@@ -64,6 +64,7 @@ TEST(BridgeConfig, HelpShowsTheDefaultsOfTheOptionsItHolds) {
            "HeartbeatMs: DDS heartbeat period of the devices (default " +
                std::to_string(defaults.observer.timing.heartbeat.count()) + ")",
            "(default " + std::to_string(defaults.agent.stream_heartbeat.count()) + ")",
+           // NOLINTNEXTLINE(bugprone-suspicious-missing-comma): one help line, wrapped
            "Transport: DDS transport: loopback, loopback-udp, test or network (default "
            "loopback)"}) {
     EXPECT_NE(text.find(expected), std::string::npos) << expected << "\nin:\n" << text;
@@ -236,7 +237,10 @@ TEST(BridgeConfig, EndlessHugeAndDirectoryFilesAreClearErrors) {
       load_config_file(config, path);
       ADD_FAILURE() << path << " accepted";
     } catch (const ConfigError& error) {
-      EXPECT_EQ(std::string(error.what()), path + ": " + too_large);
+      std::string expected = path;
+      expected += ": ";
+      expected += too_large;
+      EXPECT_EQ(std::string(error.what()), expected);
     }
   }
   std::remove(huge.c_str());

@@ -276,6 +276,7 @@ TEST_F(ServerTest, ConnectionLimitMakesRoomFromWaitingConnectionsElse503) {
   options.max_connections = 4;
   restart(options);
   std::vector<std::unique_ptr<RawClient>> held;
+  held.reserve(4);
   for (int i = 0; i < 4; ++i) {
     held.push_back(std::make_unique<RawClient>(port()));
     ASSERT_TRUE(eventually([&] { return server_->connection_count() == held.size(); }));
@@ -305,6 +306,7 @@ TEST_F(ServerTest, ConnectionLimitMakesRoomFromWaitingConnectionsElse503) {
 TEST_F(ServerTest, ManyConcurrentClientsAllGetAnswers) {
   agent_->add("door", "OPEN");
   std::vector<std::future<int>> clients;
+  clients.reserve(32);
   for (int c = 0; c < 32; ++c) {
     clients.push_back(std::async(std::launch::async, [this] {
       RawClient client(port());

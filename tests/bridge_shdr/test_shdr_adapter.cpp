@@ -135,7 +135,7 @@ TEST(ShdrAdapter, ASlowAgentIsDroppedNotQueuedFor) {
   constexpr int kCap = 2'000'000;
   for (int i = 0; i < kCap && f.adapter->stats().dropped == 0; ++i) {
     f.agent->add_value(
-        load(i % 2 ? core::InteractionState::Ready : core::InteractionState::Active));
+        load(i % 2 != 0 ? core::InteractionState::Ready : core::InteractionState::Active));
   }
   EXPECT_GE(f.adapter->stats().dropped, 1u);
   EXPECT_TRUE(slow.closed_by_peer(10s));

@@ -30,18 +30,14 @@ StepResult play_table1(Pair& p, int last_step) {
       case 4:
         r = p.responder.complete(p.now);
         break;
-      case 5:
+      case 5:  // requester detects COMPLETE ...
+      case 6:  // ... and is back to READY (same step)
         r = p.to_requester();
-        break;  // requester detects COMPLETE ...
-      case 6:
-        r = p.to_requester();
-        break;  // ... and is back to READY (same step)
-      case 7:
+        break;
+      case 7:  // responder detects READY ...
+      case 8:  // ... and is back to READY
         r = p.to_responder();
-        break;  // responder detects READY ...
-      case 8:
-        r = p.to_responder();
-        break;  // ... and is back to READY
+        break;
       default:
         break;
     }

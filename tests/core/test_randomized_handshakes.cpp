@@ -273,10 +273,11 @@ class Simulation {
         break;
       case 6:
         if (!chaotic) break;
-        if (link_up_ && chance(5))
+        if (link_up_ && chance(5)) {
           lose_link();
-        else if (!link_up_ && chance(20))
+        } else if (!link_up_ && chance(20)) {
           restore_link();
+        }
         break;
       case 7:
         if (!chaotic || !cfg_.chaos || !chance(10)) break;
@@ -458,10 +459,10 @@ TEST(Fuzz, ArbitraryInputsKeepEveryMachineWellFormed) {
       MachineOptions o;
       o.profile = profile;
       o.counterpart_has_fail = seed % 3 != 0;
-      o.limits.response = std::chrono::seconds(seed % 2 ? 2 : 0);
+      o.limits.response = std::chrono::seconds(seed % 2 != 0 ? 2 : 0);
       o.limits.service = std::chrono::seconds(5);
-      o.limits.completion_ack = std::chrono::seconds(seed % 4 ? 3 : 0);
-      o.limits.fail_ack = std::chrono::seconds(seed % 5 ? 4 : 0);
+      o.limits.completion_ack = std::chrono::seconds(seed % 4 != 0 ? 3 : 0);
+      o.limits.fail_ack = std::chrono::seconds(seed % 5 != 0 ? 4 : 0);
       Requester rq(Service::OpenDoor, o);
       Responder rs(Service::CloseChuck, o);
       SCOPED_TRACE(::testing::Message() << "seed " << seed);

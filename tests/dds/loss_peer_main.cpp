@@ -19,9 +19,15 @@ int main(int argc, char** argv) {
     std::cerr << "usage: mtc-test-loss-peer DOMAIN\n";
     return argc == 2 ? 0 : 2;
   }
+  char* end = nullptr;
+  const long domain = std::strtol(argv[1], &end, 10);
+  if (end == argv[1] || *end != '\0' || domain < 0 || domain > 232) {
+    std::cerr << "mtc-test-loss-peer: DOMAIN must be a number from 0 to 232\n";
+    return 2;
+  }
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   mtc::dds::EquipmentOptions o;
-  o.domain_id = std::atoi(argv[1]);
+  o.domain_id = static_cast<int>(domain);
   o.device_uuid = "peer-ld";
   o.transport = mtc::qos::Transport::LoopbackUdp;
   o.timing.missed_heartbeats = 5;

@@ -22,7 +22,13 @@
 namespace mtc::dds::testing {
 
 // Raw peers build their entities from the runtime's internals.
-using namespace mtc::dds::detail;
+namespace fdds = detail::fdds;
+namespace topics = detail::topics;
+using detail::HeartbeatWriter;
+using detail::Participant;
+using detail::Publisher;
+using detail::Topic;
+using detail::Writer;
 
 class RawPeer {
  public:
@@ -45,6 +51,8 @@ class RawPeer {
     sample_.sub_type(topics::to_idl(side));
     thread_ = std::thread([this] { heartbeat(); });
   }
+  RawPeer(const RawPeer&) = delete;
+  RawPeer& operator=(const RawPeer&) = delete;
   ~RawPeer() {
     {
       std::lock_guard<std::mutex> lock(mutex_);

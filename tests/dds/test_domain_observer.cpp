@@ -179,6 +179,8 @@ TEST(DomainObserver, SeesAnnouncementsValuesAndLossByLiveliness) {
 class Beater {
  public:
   explicit Beater(RawDevice& dev) : dev_(dev), thread_([this] { run(); }) {}
+  Beater(const Beater&) = delete;
+  Beater& operator=(const Beater&) = delete;
   ~Beater() {
     {
       std::lock_guard<std::mutex> lock(mutex_);

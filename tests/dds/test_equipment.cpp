@@ -22,7 +22,7 @@ struct Cell {
   Equipment cnc;
   Equipment robot;
 
-  Cell(int domain, RecoveryPolicy policy = RecoveryPolicy::AfterCommsLoss)
+  explicit Cell(int domain, RecoveryPolicy policy = RecoveryPolicy::AfterCommsLoss)
       : cnc(with_policy(options(domain, "cnc-1"), policy), cnc_rec.callbacks()),
         robot(with_policy(options(domain, "robot-1"), policy), robot_rec.callbacks()) {
     cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-1", "mh1"}});

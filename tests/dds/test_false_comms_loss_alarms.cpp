@@ -27,7 +27,10 @@
 namespace mtc::dds::testing {
 
 // Raw peers build their entities from the runtime's internals.
-using namespace mtc::dds::detail;
+namespace topics = detail::topics;
+using detail::HeartbeatWriter;
+using detail::Participant;
+using detail::Publisher;
 namespace {
 
 using core::InterfaceType;
@@ -50,6 +53,8 @@ class SilentHeartbeat {
     std::lock_guard<std::mutex> lock(mutex_);
     silent_ = true;
   }
+  SilentHeartbeat(const SilentHeartbeat&) = delete;
+  SilentHeartbeat& operator=(const SilentHeartbeat&) = delete;
   ~SilentHeartbeat() {
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -21,7 +21,12 @@
 namespace mtc::dds::testing {
 
 // Raw peers build their entities from the runtime's internals.
-using namespace mtc::dds::detail;
+namespace fdds = detail::fdds;
+namespace topics = detail::topics;
+using detail::Participant;
+using detail::Reader;
+using detail::Subscriber;
+using detail::Topic;
 namespace {
 
 using core::InterfaceType;

@@ -9,8 +9,10 @@
 #include <unistd.h>
 
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 
 #include "equipment_fixture.hpp"
 #include "mtc/dds/detail/topics.hpp"
@@ -124,9 +126,13 @@ TEST(LossDetection, HungExecutorStopsItsHeartbeat) {
     }
   };
   auto gate = std::make_shared<Gate>();
+  // Owns one release: copying it would release twice, so it cannot be copied.
   struct ReleaseOnExit {
-    std::shared_ptr<Gate> gate;
+    explicit ReleaseOnExit(std::shared_ptr<Gate> g) : gate(std::move(g)) {}
+    ReleaseOnExit(const ReleaseOnExit&) = delete;
+    ReleaseOnExit& operator=(const ReleaseOnExit&) = delete;
     ~ReleaseOnExit() { gate->release(); }
+    std::shared_ptr<Gate> gate;
   } release_on_exit{gate};
   robot.post([gate] {
     std::unique_lock<std::mutex> lock(gate->m);

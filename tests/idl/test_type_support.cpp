@@ -34,8 +34,9 @@ InstanceHandle_t key_of(eprosima::fastdds::dds::TypeSupport& type, InteractionSa
 void append_cdr_string(std::vector<unsigned char>& out, const std::string& text) {
   while (out.size() % 4 != 0) out.push_back(0);  // alignment padding is zero
   const auto n = static_cast<std::uint32_t>(text.size() + 1);
-  for (int shift = 24; shift >= 0; shift -= 8)
+  for (int shift = 24; shift >= 0; shift -= 8) {
     out.push_back(static_cast<unsigned char>(n >> shift));
+  }
   out.insert(out.end(), text.begin(), text.end());
   out.push_back(0);
 }
@@ -93,7 +94,9 @@ TEST(TypeSupport, EveryTopicTypeHashesItsKeyOnly) {
   mtc::idl::InterfaceStateSample other;
   other.device_uuid("x");
   other.data_item_id("a-long-item-id-that-ends-elsewhere");
-  InstanceHandle_t h1, h2, h3;
+  InstanceHandle_t h1;
+  InstanceHandle_t h2;
+  InstanceHandle_t h3;
   ASSERT_TRUE(state.get_key(&a, &h1));
   ASSERT_TRUE(state.get_key(&other, &h2));
   a.state(mtc::idl::interface_state::ENABLED);  // not a key field
@@ -104,7 +107,8 @@ TEST(TypeSupport, EveryTopicTypeHashesItsKeyOnly) {
   auto description = mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>();
   mtc::idl::DeviceDescription d;
   d.device_uuid("cell-feeder");
-  InstanceHandle_t hd1, hd2;
+  InstanceHandle_t hd1;
+  InstanceHandle_t hd2;
   ASSERT_TRUE(description.get_key(&d, &hd1));
   d.name("renamed");
   ASSERT_TRUE(description.get_key(&d, &hd2));
@@ -137,8 +141,9 @@ TEST(TypeSupport, HeartbeatKeyIsDeviceAndGroup) {
   std::vector<unsigned char> cdr;
   append_cdr_string(cdr, "cell-robot");
   while (cdr.size() % 4 != 0) cdr.push_back(0);
-  for (int shift = 24; shift >= 0; shift -= 8)
+  for (int shift = 24; shift >= 0; shift -= 8) {
     cdr.push_back(static_cast<unsigned char>(1 >> shift));
+  }
   MD5 md5;
   md5.update(cdr.data(), static_cast<MD5::size_type>(cdr.size()));
   md5.finalize();

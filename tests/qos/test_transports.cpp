@@ -67,7 +67,7 @@ class Peer {
  public:
   Peer(int domain, const mtc::qos::ParticipantConfig& config,
        mtc::qos::EndpointQos preset = mtc::qos::state_topic())
-      : preset_(std::move(preset)) {
+      : preset_(preset) {
     auto* factory = fdds::DomainParticipantFactory::get_instance();
     participant_ = factory->create_participant(domain, mtc::qos::participant_qos(config));
     if (participant_ == nullptr) throw std::runtime_error("participant");
@@ -76,6 +76,8 @@ class Peer {
                                         preset_.topic_qos());
     if (topic_ == nullptr) throw std::runtime_error("topic");
   }
+  Peer(const Peer&) = delete;
+  Peer& operator=(const Peer&) = delete;
   ~Peer() {
     participant_->delete_contained_entities();
     fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
@@ -140,6 +142,8 @@ TEST(LoopbackTransport, UdpOnlyDeliversBetweenParticipants) {
 class Heartbeat {
  public:
   explicit Heartbeat(Peer& peer) : thread_([this, &peer] { run(peer); }) {}
+  Heartbeat(const Heartbeat&) = delete;
+  Heartbeat& operator=(const Heartbeat&) = delete;
   ~Heartbeat() {
     {
       std::lock_guard<std::mutex> lock(mutex_);

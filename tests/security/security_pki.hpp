@@ -57,6 +57,8 @@ class Pki {
     static Pki pki;
     return pki;
   }
+  Pki(const Pki&) = delete;  // the one instance owns the directory
+  Pki& operator=(const Pki&) = delete;
   std::string dir(const std::string& identity) const { return (root_ / "a" / identity).string(); }
   const fs::path& root() const { return root_; }
 

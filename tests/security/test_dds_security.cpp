@@ -238,8 +238,8 @@ struct SecuredPair {
   Responder* respond = nullptr;
   std::atomic<int> requests_seen{0};
 
-  SecuredPair(int domain, qos::Transport transport = qos::Transport::LoopbackUdp,
-              const std::shared_ptr<std::atomic<bool>>& cable_cut = nullptr)
+  explicit SecuredPair(int domain, qos::Transport transport = qos::Transport::LoopbackUdp,
+                       const std::shared_ptr<std::atomic<bool>>& cable_cut = nullptr)
       : cnc(with_outage(secured(domain, "sec-cnc", "sec-cnc", transport), cable_cut),
             cnc_rec.callbacks()),
         robot(with_outage(secured(domain, "sec-robot", "sec-robot", transport), cable_cut),

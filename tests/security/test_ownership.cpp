@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <utility>
 
 #include "../dds/equipment_fixture.hpp"
 #include "../dds/raw_peer.hpp"
@@ -238,8 +239,11 @@ TEST(Ownership, ARestartedDeviceTakesOverOnceTheOldOwnerIsLost) {
   };
   auto gate = std::make_shared<Gate>();
   struct ReleaseOnExit {
-    std::shared_ptr<Gate> gate;
+    explicit ReleaseOnExit(std::shared_ptr<Gate> g) : gate(std::move(g)) {}
     ~ReleaseOnExit() { gate->release(); }
+    ReleaseOnExit(const ReleaseOnExit&) = delete;  // releases once
+    ReleaseOnExit& operator=(const ReleaseOnExit&) = delete;
+    std::shared_ptr<Gate> gate;
   } release_on_exit{gate};
   old_robot->post([gate] {
     std::unique_lock<std::mutex> lock(gate->m);

@@ -113,7 +113,7 @@ void ChildProcess::drain(int& fd, std::string& partial, bool is_stdout) {
     err_text_.append(buf, static_cast<std::size_t>(n));
   }
   partial.append(buf, static_cast<std::size_t>(n));
-  std::size_t pos;
+  std::size_t pos = 0;
   while ((pos = partial.find('\n')) != std::string::npos) {
     if (is_stdout) {
       out_lines_.push_back(partial.substr(0, pos));

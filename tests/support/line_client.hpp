@@ -20,8 +20,8 @@ namespace mtc::test {
 // end of an SHDR connection in the adapter's and the bridge process's tests.
 class LineClient {
  public:
-  explicit LineClient(std::uint16_t port, int receive_buffer = 0) {
-    fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+  explicit LineClient(std::uint16_t port, int receive_buffer = 0)
+      : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
     if (receive_buffer > 0) {
       ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
     }
@@ -31,6 +31,9 @@ class LineClient {
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
   }
+  // Owns the socket: a copy would close it twice.
+  LineClient(const LineClient&) = delete;
+  LineClient& operator=(const LineClient&) = delete;
   ~LineClient() { ::close(fd_); }
   bool connected() const { return connected_; }
 
@@ -64,7 +67,7 @@ class LineClient {
                                            5}) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < deadline) {
-      const auto l = line(std::chrono::duration_cast<std::chrono::milliseconds>(
+      auto l = line(std::chrono::duration_cast<std::chrono::milliseconds>(
           deadline - std::chrono::steady_clock::now()));
       if (!l) return std::nullopt;
       if (l->find(text) != std::string::npos) return l;

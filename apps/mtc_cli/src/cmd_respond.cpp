@@ -38,7 +38,7 @@ RespondConfig parse_respond(const ParsedArgs& args) {
 std::string service_list_json(const std::vector<core::Service>& services) {
   std::string out = "[";
   for (std::size_t i = 0; i < services.size(); ++i) {
-    out += (i ? "," : "") + json_quote(core::to_string(services[i]));
+    out += (i > 0 ? "," : "") + json_quote(core::to_string(services[i]));
   }
   return out + "]";
 }

@@ -136,7 +136,12 @@ class WatchPrinter {
         out_.line(line.str());
       } else {
         std::string text = format_utc(now);
-        text += "  " + device + "/" + label + "  " + previous;
+        text += "  ";
+        text += device;
+        text += '/';
+        text += label;
+        text += "  ";
+        text += previous;
         text += " -> UNAVAILABLE  (heartbeats stopped, or disposed)";
         out_.line(text);
       }

@@ -5,6 +5,7 @@
 #include "equipment_link.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include "mtc/dds/equipment.hpp"
 
@@ -44,7 +45,7 @@ EquipmentLink::Refusal refusal(std::future<core::StepResult> f) {
 }  // namespace
 
 struct EquipmentLink::Impl {
-  Impl(const EquipmentConfig& c, core::Role r, EventQueue& q) : config(c), role(r), events(q) {}
+  Impl(EquipmentConfig c, core::Role r, EventQueue& q) : config(std::move(c)), role(r), events(q) {}
 
   bool serves(core::Service s) const {
     return std::find(config.services.begin(), config.services.end(), s) != config.services.end();

@@ -55,13 +55,13 @@ std::string interfaces_json(const dds::ObservedDevice& device) {
       const auto& di = itf.data_items[j];
       JsonLine item;
       item.field("id", di.id).field("type", di.type).field("sub_type", di.sub_type);
-      items += (j ? "," : "") + item.str();
+      items += (j > 0 ? "," : "") + item.str();
     }
     items += "]";
     JsonLine line;
     line.field("id", itf.id).field("name", itf.name).field("type", core::to_string(itf.type));
     line.raw_field("data_items", items);
-    out += (i ? "," : "") + line.str();
+    out += (i > 0 ? "," : "") + line.str();
   }
   return out + "]";
 }

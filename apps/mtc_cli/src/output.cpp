@@ -112,7 +112,7 @@ std::string format_utc(std::int64_t ns) {
   if (ns <= 0) {
     return "-";
   }
-  const std::time_t secs = static_cast<std::time_t>(ns / 1000000000);
+  const auto secs = static_cast<std::time_t>(ns / 1000000000);
   std::tm tm{};
   gmtime_r(&secs, &tm);
   char buf[48];

@@ -96,22 +96,27 @@ void RespondRunner::on_timers(Slot& slot, TimePoint now) {
   }
 }
 
+// The requester's liveliness lost or back: every slot hears of it.
+void RespondRunner::on_peer_link(const LinkEvent& e) {
+  const bool lost = e.kind == LinkEvent::Kind::CounterpartLost;
+  peer_lost_ = lost;
+  for (auto& slot : slots_) {
+    if (lost) {
+      slot.peer = InteractionState::Unavailable;
+    }
+    if (&slot == &slots_.front() || slot.busy) {
+      slot.trace.note(lost ? "peer_lost" : "peer_restored", e.detail);
+    }
+    if (lost) {
+      report(slot, Result::Fail, "requester lost (no heartbeat within the lease)");
+    }
+  }
+}
+
 void RespondRunner::on_event(const LinkEvent& e) {
   if (e.kind == LinkEvent::Kind::CounterpartLost ||
       e.kind == LinkEvent::Kind::CounterpartRestored) {
-    const bool lost = e.kind == LinkEvent::Kind::CounterpartLost;
-    peer_lost_ = lost;
-    for (auto& slot : slots_) {
-      if (lost) {
-        slot.peer = InteractionState::Unavailable;
-      }
-      if (&slot == &slots_.front() || slot.busy) {
-        slot.trace.note(lost ? "peer_lost" : "peer_restored", e.detail);
-      }
-      if (lost) {
-        report(slot, Result::Fail, "requester lost (no heartbeat within the lease)");
-      }
-    }
+    on_peer_link(e);
     return;
   }
   if (e.kind == LinkEvent::Kind::Notice && !e.detail.empty()) {
@@ -140,24 +145,28 @@ void RespondRunner::on_event(const LinkEvent& e) {
   if (e.reason != core::Reason::None && e.notice != core::Notice::Rejected) {
     slot->last_reason = e.reason;
   }
-  if (e.kind == LinkEvent::Kind::OwnState && e.state != slot->own) {
-    slot->own = e.state;
+  on_state(*slot, e);
+}
+
+// A new value of our response or of the requester's request.
+void RespondRunner::on_state(Slot& slot, const LinkEvent& e) {
+  if (e.kind == LinkEvent::Kind::OwnState && e.state != slot.own) {
+    slot.own = e.state;
     if (e.state == InteractionState::Fail) {
-      slot->failed_at = Clock::now();
+      slot.failed_at = Clock::now();
     }
-    slot->trace.transition(true, e);
+    slot.trace.transition(true, e);
     if (e.state == InteractionState::Complete) {
-      report(*slot, Result::Complete, "");
+      report(slot, Result::Complete, "");
     }
     if (e.state == InteractionState::Fail) {
-      report(*slot, Result::Fail,
-             slot->last_reason != core::Reason::None
-                 ? std::string(core::describe(slot->last_reason))
-                 : "response FAIL");
+      report(slot, Result::Fail,
+             slot.last_reason != core::Reason::None ? std::string(core::describe(slot.last_reason))
+                                                    : "response FAIL");
     }
-  } else if (e.kind == LinkEvent::Kind::CounterpartState && e.state != slot->peer) {
-    slot->peer = e.state;
-    slot->trace.transition(false, e);
+  } else if (e.kind == LinkEvent::Kind::CounterpartState && e.state != slot.peer) {
+    slot.peer = e.state;
+    slot.trace.transition(false, e);
   }
 }
 

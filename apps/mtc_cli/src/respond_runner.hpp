@@ -51,10 +51,12 @@ class RespondRunner {
 
   Slot* slot_for(core::Service s);
   void on_event(const LinkEvent& e);
+  void on_peer_link(const LinkEvent& e);
+  static void on_state(Slot& slot, const LinkEvent& e);
   void on_request(Slot& slot);
   void on_timers(Slot& slot, TimePoint now);
   void inject(Slot& slot);
-  void report(Slot& slot, Result result, const std::string& reason);
+  static void report(Slot& slot, Result result, const std::string& reason);
   void maintain(Slot& slot);
   void close(Slot& slot);
   void move_door_or_chuck(Slot& slot);

@@ -30,9 +30,11 @@ class Connection {
   bool is_tls() const noexcept { return std::holds_alternative<Tls>(stream_); }
 
   // The TCP layer: timeouts, socket options, shutdown, close, executor.
+  // get_if, not std::visit: visit throws on a valueless variant, which
+  // stream_ never is (set once, by the constructor).
   beast::tcp_stream& tcp() noexcept {
-    return std::visit([](auto& s) -> beast::tcp_stream& { return beast::get_lowest_layer(s); },
-                      stream_);
+    if (auto* tls = std::get_if<Tls>(&stream_)) return beast::get_lowest_layer(*tls);
+    return *std::get_if<beast::tcp_stream>(&stream_);
   }
 
   // The TLS server handshake (call only when is_tls()).

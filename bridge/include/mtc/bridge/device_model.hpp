@@ -82,6 +82,9 @@ struct ItemHint {
 class DeviceModel {
  public:
   DeviceModel();
+  ~DeviceModel() = default;
+  DeviceModel(const DeviceModel&) = delete;
+  DeviceModel& operator=(const DeviceModel&) = delete;
   DeviceModel(DeviceModel&&) noexcept = default;
   DeviceModel& operator=(DeviceModel&&) noexcept = default;
 

@@ -8,6 +8,7 @@
 // service. Not thread-safe; the runtime drives it from one thread.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -32,10 +33,7 @@ class StepBatch {
   const StepResult* end() const noexcept { return items_.data() + size_; }
   // True when any result changed a published state.
   bool any_changed() const noexcept {
-    for (const auto& r : *this) {
-      if (r.changed()) return true;
-    }
-    return false;
+    return std::any_of(begin(), end(), [](const StepResult& r) { return r.changed(); });
   }
 
  private:

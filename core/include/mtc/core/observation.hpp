@@ -30,12 +30,15 @@ class ObservedState {
   // An interaction item's UNAVAILABLE.
   constexpr ObservedState() noexcept = default;
   // Implicit on purpose: `value.state = core::DoorState::Open` says it all.
-  constexpr ObservedState(InteractionState s) noexcept
-      : kind_(ItemKind::Interaction), code_(static_cast<std::int32_t>(s)) {}
+  // NOLINTNEXTLINE(google-explicit-constructor)
+  constexpr ObservedState(InteractionState s) noexcept : code_(static_cast<std::int32_t>(s)) {}
+  // NOLINTNEXTLINE(google-explicit-constructor)
   constexpr ObservedState(InterfaceState s) noexcept
       : kind_(ItemKind::InterfaceState), code_(static_cast<std::int32_t>(s)) {}
+  // NOLINTNEXTLINE(google-explicit-constructor)
   constexpr ObservedState(DoorState s) noexcept
       : kind_(ItemKind::DoorState), code_(static_cast<std::int32_t>(s)) {}
+  // NOLINTNEXTLINE(google-explicit-constructor)
   constexpr ObservedState(ChuckState s) noexcept
       : kind_(ItemKind::ChuckState), code_(static_cast<std::int32_t>(s)) {}
 

@@ -21,6 +21,8 @@ class ServicePreconditions {
   ServicePreconditions() = default;
   ServicePreconditions(const ServicePreconditions&) = default;
   ServicePreconditions& operator=(const ServicePreconditions&) = default;
+  ServicePreconditions(ServicePreconditions&&) = default;
+  ServicePreconditions& operator=(ServicePreconditions&&) = default;
 };
 
 // 1.3 section 3.3: "If the DOOR_STATE is OPEN, the OPEN_DOOR data item will
@@ -30,9 +32,12 @@ class ServicePreconditions {
 // neither, so a door of unknown state is never moved. Services that are not
 // door/chuck services are always permitted.
 constexpr bool door_permits(Service service, DoorState door) noexcept {
-  if (service == Service::OpenDoor)
+  if (service == Service::OpenDoor) {
     return door == DoorState::Closed || door == DoorState::Unlatched;
-  if (service == Service::CloseDoor) return door == DoorState::Open || door == DoorState::Unlatched;
+  }
+  if (service == Service::CloseDoor) {
+    return door == DoorState::Open || door == DoorState::Unlatched;
+  }
   return true;
 }
 constexpr bool chuck_permits(Service service, ChuckState chuck) noexcept {

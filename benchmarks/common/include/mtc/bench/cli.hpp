@@ -41,8 +41,9 @@ class Cli {
           errno = 0;
           char* end = nullptr;
           const long parsed = std::strtol(text.c_str(), &end, 10);
-          const bool digits = !text.empty() && (std::isdigit(static_cast<unsigned char>(text[0])) ||
-                                                text[0] == '-' || text[0] == '+');
+          const bool digits =
+              !text.empty() && (std::isdigit(static_cast<unsigned char>(text[0])) != 0 ||
+                                text[0] == '-' || text[0] == '+');
           if (!digits || *end != '\0' || errno == ERANGE || parsed < min || parsed > max) {
             return std::optional<std::string>(name + " expects an integer in " + range + ", got '" +
                                               text + "'");
@@ -177,7 +178,7 @@ class Cli {
     const auto it = std::find_if(options_.begin(), options_.end(),
                                  [&](const Option& o) { return o.name == name; });
     if (it == options_.end()) {
-      return name.rfind("-", 0) == 0 ? "unknown option '" + name + "'"
+      return name.rfind('-', 0) == 0 ? "unknown option '" + name + "'"
                                      : "unexpected argument '" + name + "'";
     }
     if (it->seen) {

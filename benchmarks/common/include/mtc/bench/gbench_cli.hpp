@@ -71,7 +71,8 @@ inline void print_usage(std::ostream& out) {
             << ": bad value for a --benchmark_* flag (format, out_format, color, "
                "time_unit)\n\n";
   print_usage(std::cerr);
-  std::exit(kExitUsage);
+  // Called while parsing the command line, before any thread exists.
+  std::exit(kExitUsage);  // NOLINT(concurrency-mt-unsafe)
 }
 
 }  // namespace gbench_detail

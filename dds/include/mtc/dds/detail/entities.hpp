@@ -44,7 +44,7 @@ class Participant {
   Participant& operator=(const Participant&) = delete;
 
   // Registers a type (once per name; repeated calls are no-ops).
-  void register_type(fdds::TypeSupport type);
+  void register_type(const fdds::TypeSupport& type);
   fdds::DomainParticipant& get() const noexcept { return *participant_; }
 
  private:
