@@ -21,7 +21,10 @@ void report(const ReturnCode& code, const char* what) {
 }  // namespace
 
 Participant::Participant(int domain_id, const fdds::DomainParticipantQos& qos) {
-  participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+  fdds::DomainParticipantQos anchored = qos;
+  qos::anchor_discovery_port(anchored, domain_id);
+  participant_ =
+      fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, anchored);
   if (participant_ == nullptr) {
     const std::string what = "create_participant(domain " + std::to_string(domain_id) + ")";
     const std::string security_dir = qos::security_dir_of(qos);

@@ -155,6 +155,14 @@ fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
   return q;
 }
 
+void anchor_discovery_port(fdds::DomainParticipantQos& qos, int domain_id) {
+  auto& wire = qos.wire_protocol();
+  const auto first_port = wire.port.getUnicastPort(static_cast<std::uint32_t>(domain_id), 0);
+  for (auto& locator : wire.builtin.metatrafficUnicastLocatorList) {
+    if (locator.kind == LOCATOR_KIND_UDPv4 && locator.port == 0) locator.port = first_port;
+  }
+}
+
 ParticipantConfig participant_config(std::string_view profile_name, const Timing& timing) {
   ParticipantConfig config;
   config.timing = timing;

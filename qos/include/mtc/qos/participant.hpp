@@ -7,9 +7,10 @@
 // to the host by configuration, not by a network namespace: the builtin
 // transports are switched off, UDPv4 is restricted to 127.0.0.1
 // (interfaceWhiteList) and discovery uses no multicast: each
-// participant listens for discovery on 127.0.0.1 at its well-known unicast
-// port and announces itself to the unicast ports of the domain's first 32
-// participant ids on 127.0.0.1 (initial peers). Every socket such a
+// participant listens for discovery on 127.0.0.1 at the domain's lowest free
+// well-known unicast port (anchor_discovery_port in participant_qos.hpp) and
+// announces itself to the first 32 of those ports on 127.0.0.1 (initial
+// peers). Every socket such a
 // participant opens is bound to 127.0.0.1, or is shared memory; this is what
 // lets ./scripts/start.sh run the cell and the bridge on the host
 // (tests/scripts/check_loopback_confinement.sh proves it). LoopbackTest, the

@@ -20,6 +20,20 @@ eprosima::fastdds::dds::DomainParticipantQos participant_qos(const ParticipantCo
 // files of an (absolute) security directory.
 std::vector<std::pair<std::string, std::string>> security_properties(const std::string& dir);
 
+// Binds the loopback transports' discovery to the domain's lowest free
+// well-known port instead of the one of the participant id Fast DDS gives
+// it. Fast DDS numbers a process's participants 0, 1, 2, ... and never
+// reuses a number, and the port follows the number; a loopback participant
+// announces itself only to the ports of the first 32 ids, so in a process
+// that had created 32 participants (an equipment restarted in-process, a
+// benchmark's start-ups) two new ones never found each other. With the
+// domain's first port as the start, Fast DDS moves up to the next port
+// while one is taken (by a live participant of any process), so ports stay
+// low as long as fewer than 32 participants of the domain live on the host.
+// Touches only a UDPv4 discovery locator left at port 0 (the loopback
+// transports); participant_qos() cannot do it: the domain is not known yet.
+void anchor_discovery_port(eprosima::fastdds::dds::DomainParticipantQos& qos, int domain_id);
+
 // The security directory a participant QoS was built with, or "" when it
 // has none: for the error when Fast DDS refuses such a participant.
 std::string security_dir_of(const eprosima::fastdds::dds::DomainParticipantQos& qos);

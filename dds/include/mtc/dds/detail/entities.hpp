@@ -37,7 +37,9 @@ fdds::DomainParticipantQos checked_qos(const qos::ParticipantConfig& config);
 class Participant {
  public:
   // A refused participant is a CreationError; with DDS-Security it names the
-  // security directory whose files Fast DDS refused.
+  // security directory whose files Fast DDS refused. A loopback participant
+  // listens for discovery on the domain's lowest free port
+  // (qos::anchor_discovery_port), however many participants the process made.
   Participant(int domain_id, const fdds::DomainParticipantQos& qos);
   ~Participant();
   Participant(const Participant&) = delete;
