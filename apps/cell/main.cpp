@@ -29,6 +29,11 @@ void usage(std::ostream& out) {
          "                   about every S seconds freeze the robot or the feeder (SIGSTOP)\n"
          "                   for a lease + 3 s: scenario 6 (default 0 = never; processes only)\n"
          "  --domain D       DDS domain id (default 110)\n"
+         "  --transport KIND network (UDP on every interface + SHM: stations on several\n"
+         "                   hosts), loopback (UDP 127.0.0.1 + SHM: this host only) or\n"
+         "                   loopback-udp (default "
+      << mtc::qos::to_string(CellOptions{}.transport)
+      << ")\n"
          "  --heartbeat-ms MS, --missed-heartbeats N\n"
          "                   DDS heartbeat and loss detection (default "
       << defaults.heartbeat.count() << " x " << defaults.missed_heartbeats << " = "
@@ -85,6 +90,16 @@ std::string parse(int argc, char** argv, Parsed& p) {
       }
       p.mode = Mode::Station;
       p.station = *id;
+      continue;
+    }
+    if (a == "--transport") {
+      const auto transport = mtc::qos::parse_transport(v);
+      if (!transport) {
+        return "unknown transport '" + v + "' (network, loopback or loopback-udp)";
+      }
+      p.options.transport = *transport;
+      p.station_args.push_back(a);
+      p.station_args.push_back(v);
       continue;
     }
     if (a == "--security" && !v.empty()) {
