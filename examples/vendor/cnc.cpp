@@ -23,8 +23,7 @@ int load_one_blank(int domain_id, mtc::qos::Transport transport) {
   mtc::dds::EquipmentOptions options;
   options.domain_id = domain_id;
   options.device_uuid = "cnc-1";  // this device: it writes in partition mtc/dev/cnc-1
-  options.transport =
-      transport;  // Network (the default) reaches the robot's host; Loopback: this one
+  options.transport = transport;  // Network (default): any host of the cell; Loopback: this one
   mtc::dds::Equipment cnc(options);
 
   // One material-handler interface, paired with interface "mh1" of device "robot-1".
