@@ -448,6 +448,12 @@ def main(argv):
         return 2
     if run_self_test:
         return self_test(root)
+    # A named file that is not a readable file is a usage error, not a traceback.
+    for f in files:
+        if not os.path.isfile(f):
+            sys.stderr.write("check_transport_chosen.py: '%s' is not a file (use --root DIR "
+                             "to scan a checkout)\n" % f)
+            return 2
     paths = files or sorted(repo_files(root))
     findings = scan(paths, root)
     for line in findings:
