@@ -29,7 +29,7 @@ fail() {
   exit 1
 }
 
-"$bridge" --domain-ids "$domain" --port "$port" >"$work/bridge.log" 2>&1 &
+"$bridge" --transport loopback --domain-ids "$domain" --port "$port" >"$work/bridge.log" 2>&1 &
 bridge_pid=$!
 for _ in $(seq 100); do
   curl -s -o /dev/null --max-time 1 "http://127.0.0.1:$port/probe" && break

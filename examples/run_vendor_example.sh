@@ -18,7 +18,7 @@ domain="$3"
 
 # The robot serves one handshake, then exits; its first JSON line says it is up.
 coproc ROBOT {
-  exec "$mtc" respond --domain "$domain" --device robot-1 --interface mh1 \
+  exec "$mtc" respond --transport loopback --domain "$domain" --device robot-1 --interface mh1 \
     --service MATERIAL_LOAD --action-ms 50 --count 1 --json
 }
 robot_pid=$ROBOT_PID
@@ -31,7 +31,7 @@ fi
 echo "robot: $first"
 
 # The example waits up to 5 s for the robot to be READY, then requests.
-"$example" --domain "$domain"
+"$example" --transport loopback --domain "$domain"
 
 sed 's/^/robot: /' <&"$robot_out"
 robot_rc=0

@@ -26,8 +26,10 @@
 # --forward relays HTTP connections into it (socat on the host, bound to
 # 127.0.0.1; each connection is carried by a socat that nsenter starts inside
 # the namespace). Only the bridge's HTTP port crosses: DDS stays inside, where
-# it is also confined by its transport (UDP on 127.0.0.1 and shared memory,
-# unicast discovery; docs/runtime-qos.md, Transports).
+# it is also confined by the transport this script chooses for the cell and
+# the bridge (--transport loopback: UDP on 127.0.0.1 and shared memory,
+# unicast discovery; docs/runtime-qos.md, Transports); the tools' own
+# default is the network.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MTC_BUILD_DIR:-$root/build}"
@@ -118,7 +120,7 @@ case "${1:-}" in
     shift
     if [ $# -eq 0 ]; then
       echo "start.sh: shell inside the cell's namespace; try: curl -s http://127.0.0.1:$port/current" >&2
-      echo "          or: $build/apps/mtc --help (DDS domain $domain). exit leaves." >&2
+      echo "          or: $build/apps/mtc watch --transport loopback --domain $domain. exit leaves." >&2
       in_cell_ns bash -i
     fi
     in_cell_ns "$@" ;;
@@ -226,7 +228,8 @@ if [ -x "$bridge" ]; then
   # Same heartbeat as the cell, so the bridge matches the stations' writers
   # and declares a device lost when the stations would.
   # 127.0.0.1 only, even inside the namespace: --forward reaches it there.
-  "$bridge" --domain-ids "$domain" --server-ip 127.0.0.1 --port "$port" "${bridge_timing[@]}" \
+  "$bridge" --transport loopback --domain-ids "$domain" --server-ip 127.0.0.1 --port "$port" \
+    "${bridge_timing[@]}" \
     "${bridge_security[@]}" \
     >"$bridge_log" 2>&1 &
   bridge_pid=$!
@@ -264,7 +267,7 @@ EOF
 
 # The cell runs as a background job so that SIGINT/SIGTERM reach this shell's
 # trap at once; the trap hands them on and the loop waits for a clean exit.
-"$cell" --domain "$domain" "${cell_security[@]}" "${cell_args[@]}" &
+"$cell" --transport loopback --domain "$domain" "${cell_security[@]}" "${cell_args[@]}" &
 cell_pid=$!
 trap 'kill -TERM "$cell_pid" 2>/dev/null || true' INT TERM
 rc=0

@@ -280,6 +280,7 @@ class EquipmentLink : public Link {
     eo.device_uuid = uuid_of(id);
     eo.device_name = std::string(to_string(id));
     eo.timing = options.timing;
+    eo.transport = options.transport;
     eo.security_dir = security_dir_of(id, options);
     equipment_ = std::make_unique<dds::Equipment>(eo, callbacks());
     const Layout l = layout_of(id);

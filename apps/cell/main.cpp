@@ -29,6 +29,11 @@ void usage(std::ostream& out) {
          "                   about every S seconds freeze the robot or the feeder (SIGSTOP)\n"
          "                   for a lease + 3 s: scenario 6 (default 0 = never; processes only)\n"
          "  --domain D       DDS domain id (default 110)\n"
+         "  --transport KIND network (UDP on every interface + SHM: stations on several\n"
+         "                   hosts), loopback (UDP 127.0.0.1 + SHM: this host only) or\n"
+         "                   loopback-udp (default "
+      << mtc::qos::to_string(CellOptions{}.transport)
+      << ")\n"
          "  --heartbeat-ms MS, --missed-heartbeats N\n"
          "                   DDS heartbeat and loss detection (default "
       << defaults.heartbeat.count() << " x " << defaults.missed_heartbeats << " = "
@@ -61,6 +66,33 @@ struct Parsed {
   std::vector<std::string> station_args;  // what each child station gets
 };
 
+// The options whose value is a name (--station, --transport): true when `a`
+// was one of them, with `error` set when its value is unknown.
+bool parse_named_value(const std::string& a, const std::string& v, Parsed& p, std::string& error) {
+  if (a == "--station") {
+    const auto id = mtc::cell::parse_station(v);
+    if (!id) {
+      error = "unknown station '" + v + "' (machine, robot or feeder)";
+      return true;
+    }
+    p.mode = Mode::Station;
+    p.station = *id;
+    return true;
+  }
+  if (a == "--transport") {
+    const auto transport = mtc::qos::parse_transport(v);
+    if (!transport) {
+      error = "unknown transport '" + v + "' (network, loopback or loopback-udp)";
+      return true;
+    }
+    p.options.transport = *transport;
+    p.station_args.push_back(a);
+    p.station_args.push_back(v);
+    return true;
+  }
+  return false;
+}
+
 // Returns an error message, empty on success.
 std::string parse(int argc, char** argv, Parsed& p) {
   for (int i = 1; i < argc; ++i) {
@@ -78,13 +110,9 @@ std::string parse(int argc, char** argv, Parsed& p) {
     }
     const std::string v = argv[++i];
     long n = 0;
-    if (a == "--station") {
-      const auto id = mtc::cell::parse_station(v);
-      if (!id) {
-        return "unknown station '" + v + "' (machine, robot or feeder)";
-      }
-      p.mode = Mode::Station;
-      p.station = *id;
+    std::string error;
+    if (parse_named_value(a, v, p, error)) {
+      if (!error.empty()) return error;
       continue;
     }
     if (a == "--security" && !v.empty()) {

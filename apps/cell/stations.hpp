@@ -15,6 +15,7 @@
 #include <mutex>
 
 #include "cell_plan.hpp"
+#include "mtc/qos/participant.hpp"
 #include "mtc/qos/timing.hpp"
 #include "ports.hpp"
 
@@ -33,6 +34,9 @@ struct CellOptions {
   // counts as lost (scenario 6): the runtime's default unless --heartbeat-ms /
   // --missed-heartbeats say otherwise. The bridge must use the same lease.
   qos::Timing timing;
+  // --transport: the network by default, as every tool; start.sh and the
+  // tests choose loopback.
+  qos::Transport transport = qos::Transport::Network;
   // DDS-Security: a scripts/security/make-pki.sh output directory for
   // scripts/security/cell.txt; each station uses <security_dir>/<its uuid>.
   // Empty: unsecured.

@@ -283,8 +283,9 @@ int supervise(const CellOptions& options, const std::vector<std::string>& statio
     children.push_back({id, pid, true, 0});
   }
   print_line("cell", format("stations started: machine pid %d, robot pid %d, feeder pid %d "
-                            "(DDS domain %d)",
-                            children[2].pid, children[1].pid, children[0].pid, options.domain_id));
+                            "(DDS domain %d, transport %s)",
+                            children[2].pid, children[1].pid, children[0].pid, options.domain_id,
+                            std::string(qos::to_string(options.transport)).c_str()));
   const int rc = Supervisor(options, std::move(children)).run(set);
   print_line("cell", format("all stations stopped, exit code %d", rc));
   pthread_sigmask(SIG_SETMASK, &original, nullptr);

@@ -3,6 +3,7 @@
 # Usage:
 #   test_cell.sh local  <mtc-cell>                 scripts over the in-memory link
 #   test_cell.sh chuck  <mtc-cell>                 in-memory: OPEN_CHUCK withdrawn mid-motion
+#   test_cell.sh transport <mtc-cell>              --transport: network by default, a bad kind exits 2
 #   test_cell.sh dds    <mtc-cell> <domain>        3 processes over DDS, bounded run
 #   test_cell.sh sigint <mtc-cell> <domain>        Ctrl-C stops every station, exit 0
 #   test_cell.sh start  <build-dir> <domain> <port> scripts/start.sh: bridge serves the cell
@@ -15,7 +16,7 @@ usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' 
 mode="${1:-}"
 case "$mode" in
   -h | --help) usage; exit 0 ;;
-  local | chuck) arguments=2 ;;
+  local | chuck | transport) arguments=2 ;;
   dds | sigint) arguments=3 ;;
   start | secure) arguments=4 ;;
   *) echo "test_cell.sh: unknown mode or option '$mode'" >&2; usage >&2; exit 2 ;;
@@ -73,9 +74,18 @@ check_bounded_run() {
   return 0
 }
 
+cell="$2"  # the mtc-cell executable (modes local, chuck, transport, dds, sigint)
 case "$mode" in
+  transport)
+    # The default comes from CellOptions, which the parser starts from.
+    "$cell" --help >"$log" 2>&1 || fail "mtc-cell --help exited with $?"
+    expect "loopback-udp \(default network\)" "the network as the default transport"
+    rc=0
+    "$cell" --transport pigeon --cycles 1 >"$log" 2>&1 || rc=$?
+    [ "$rc" = 2 ] || fail "mtc-cell --transport pigeon exited with $rc, not 2"
+    expect "unknown transport 'pigeon'" "the bad transport named" ;;
   local)
-    timeout 120 "$2" --local --cycles 10 --fail-every 2 --seed 7 --pace-ms 5 >"$log" 2>&1 ||
+    timeout 120 "$cell" --transport loopback --local --cycles 10 --fail-every 2 --seed 7 --pace-ms 5 >"$log" 2>&1 ||
       fail "mtc-cell --local exited with $?"
     check_bounded_run 10
     # Ten cycles with one failure per two cycles take every fault point in turn.
@@ -89,7 +99,7 @@ case "$mode" in
     # the chuck then stops OPEN and the machine's OPEN_CHUCK response stays
     # NOT_READY, so the robot must skip the step instead of waiting for READY
     # until the machine's load times out (15 s, counted as an 'other' failure).
-    timeout 60 "$2" --local --cycles 1 --fail-every 1 --seed 17 --pace-ms 100 >"$log" 2>&1 ||
+    timeout 60 "$cell" --transport loopback --local --cycles 1 --fail-every 1 --seed 17 --pace-ms 100 >"$log" 2>&1 ||
       fail "mtc-cell --local exited with $?"
     expect "OPEN_CHUCK: injected failure, scenario 3" "the robot's collision at the chuck"
     expect "OPEN_CHUCK +request withdrawn" "the machine finishing a withdrawn OPEN_CHUCK"
@@ -99,12 +109,14 @@ case "$mode" in
       "one injected failure, recovered, nothing else failing"
     expect "OPEN_CHUCK +skipped: already done" "the retried load skipping the opened chuck" ;;
   dds)
-    timeout 150 "$2" --cycles 6 --fail-every 2 --seed 7 --pace-ms 10 --domain "$3" >"$log" 2>&1 ||
+    timeout 150 "$cell" --transport loopback --cycles 6 --fail-every 2 --seed 7 --pace-ms 10 \
+      --domain "$3" >"$log" 2>&1 ||
       fail "mtc-cell exited with $?"
     check_bounded_run 6
+    expect "\(DDS domain $3, transport loopback\)" "the stations on the transport chosen"
     expect "all stations stopped, exit code 0" "a clean stop of every station" ;;
   sigint)
-    "$2" --pace-ms 10 --domain "$3" >"$log" 2>&1 &
+    "$cell" --transport loopback --pace-ms 10 --domain "$3" >"$log" 2>&1 &
     pid=$!
     # Block until the first cycle is through (an event in the output, no sleep).
     timeout 60 grep -m1 -q "cycle 1 complete" <(tail -n +1 -f "$log") ||

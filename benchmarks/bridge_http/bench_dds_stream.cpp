@@ -18,6 +18,7 @@
 
 #include "demo_cell.hpp"
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/transport.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mtc/qos/participant.hpp"
@@ -119,7 +120,7 @@ int main(int argc, char** argv) try {
   server_options.port = 0;
   bridge::HttpServer server(agent, server_options);
   server.start();
-  dds::DomainObserverOptions observer_options;
+  auto observer_options = mtc::bench::loopback<dds::DomainObserverOptions>();
   observer_options.domain_id = kDomain;
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_device = [&](const dds::ObservedDevice& d) { agent->add_device(d); };
@@ -131,7 +132,7 @@ int main(int argc, char** argv) try {
 
   // The device.
   std::atomic<std::int64_t> step_ns{0};
-  dds::EquipmentOptions options;
+  auto options = mtc::bench::loopback<dds::EquipmentOptions>();
   options.domain_id = kDomain;
   options.device_uuid = "bench-robot";
   dds::EquipmentCallbacks equipment_callbacks;

@@ -88,7 +88,7 @@ for hb in "${periods[@]}"; do
     busy_pids+=($!)
   done
   fastdds shm clean >/dev/null 2>&1 || true
-  "$root/scripts/netns-run.sh" "$cell" --domain "$domain" --duration "$seconds" --fail-every 0 \
+  "$root/scripts/netns-run.sh" "$cell" --transport loopback --domain "$domain" --duration "$seconds" --fail-every 0 \
     --heartbeat-ms "$hb" --missed-heartbeats "$missed" >"$log" 2>&1 &
   cell_pid=$!
   demoter=""

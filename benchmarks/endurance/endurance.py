@@ -99,7 +99,8 @@ class Run:
         apps = os.path.join(self.args.build, "apps")
         bridge_log = open(self.stem + "-bridge.log", "w")
         self.bridge = subprocess.Popen(
-            [os.path.join(apps, "mtc-bridge"), "--domain-ids", str(self.args.domain),
+            [os.path.join(apps, "mtc-bridge"), "--transport", "loopback",
+             "--domain-ids", str(self.args.domain),
              "--port", str(self.args.port)],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_parent)
         # The bridge says when it listens: start the stream then, not after a sleep.
@@ -110,7 +111,8 @@ class Run:
         self._drain(self.bridge.stdout, bridge_log)
         self.stream.start()
         self.cell = subprocess.Popen(
-            [os.path.join(apps, "mtc-cell"), "--domain", str(self.args.domain)],
+            [os.path.join(apps, "mtc-cell"), "--transport", "loopback",
+             "--domain", str(self.args.domain)],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_parent)
         self.log = cell_log.CellLog(self.cell.stdout, open(self.stem + "-cell.log", "w"),
                                     self.clock, self.t0)
@@ -236,8 +238,10 @@ def report(args, run, codes, load_start):
         "cores": os.cpu_count(), "load_average_start": load_start,
         "load_average_end": load_average(),
         "config": {"domain": args.domain, "port": args.port, "build": args.build,
-                   "cell": "mtc-cell --domain %d (defaults: 100 ms x 3 heartbeat)" % args.domain,
-                   "bridge": "mtc-bridge --domain-ids %d --port %d" % (args.domain, args.port)},
+                   "cell": "mtc-cell --transport loopback --domain %d (defaults: 100 ms x 3 "
+                           "heartbeat)" % args.domain,
+                   "bridge": "mtc-bridge --transport loopback --domain-ids %d --port %d"
+                             % (args.domain, args.port)},
         "processes": processes, "cell": cell, "stream": run.stream.summary(),
         "exit_codes": codes, "events": run.events,
     }

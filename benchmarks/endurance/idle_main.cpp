@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/transport.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "proc_sampler.hpp"
 
@@ -120,7 +121,7 @@ constexpr const char* kResponderUuid = "idle-responder";
 
 std::unique_ptr<mtc::dds::Equipment> make_side(const Options& o, bool requester,
                                                SideCounters& counters) {
-  mtc::dds::EquipmentOptions eo;
+  auto eo = mtc::bench::loopback<mtc::dds::EquipmentOptions>();
   eo.domain_id = o.domain;
   eo.device_uuid = requester ? kRequesterUuid : kResponderUuid;
   mtc::dds::EquipmentCallbacks cb;

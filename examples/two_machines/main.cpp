@@ -71,6 +71,9 @@ dds::EquipmentOptions equipment(int domain, const std::string& uuid) {
   dds::EquipmentOptions o;
   o.domain_id = domain;
   o.device_uuid = uuid;
+  // The three devices share this process and host; the bridge that watches
+  // them (run_two_machines.sh) is told --transport loopback as well.
+  o.transport = mtc::qos::Transport::Loopback;
   return o;
 }
 

@@ -5,7 +5,8 @@
 // markers; the docs tests keep that copy equal to them and run this program
 // against `mtc respond` playing the robot (examples/run_vendor_example.sh).
 //
-// Usage: mtc-example-cnc [--domain N]    exit 0 when the load COMPLETED
+// Usage: mtc-example-cnc [--domain N] [--transport network|loopback]
+//        exit 0 when the load COMPLETED
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
@@ -13,15 +14,16 @@
 #include <string>
 
 #include "mtc/dds/equipment.hpp"
+#include "mtc/qos/participant.hpp"
 
 namespace {
 
-int load_one_blank(int domain_id) {
+int load_one_blank(int domain_id, mtc::qos::Transport transport) {
   // [snippet]
   mtc::dds::EquipmentOptions options;
   options.domain_id = domain_id;
   options.device_uuid = "cnc-1";  // this device: it writes in partition mtc/dev/cnc-1
-  // options.transport = mtc::qos::Transport::Network;  // a real cell network (default: loopback)
+  options.transport = transport;  // Network (default): any host of the cell; Loopback: this one
   mtc::dds::Equipment cnc(options);
 
   // One material-handler interface, paired with interface "mh1" of device "robot-1".
@@ -44,13 +46,14 @@ int load_one_blank(int domain_id) {
 }
 
 void usage(std::ostream& out) {
-  out << "usage: mtc-example-cnc [--domain N]\n"
+  out << "usage: mtc-example-cnc [--domain N] [--transport KIND]\n"
          "A CNC (device cnc-1) requests MATERIAL_LOAD from the robot (device robot-1,\n"
          "interface mh1) over DDS and prints the outcome; exit 0 when it COMPLETED.\n"
-         "  --domain N   DDS domain id, 0-232 (default 0)\n"
+         "  --domain N        DDS domain id, 0-232 (default 0)\n"
+         "  --transport KIND  network (default: Fast DDS's UDPv4 + SHM, the robot on any\n"
+         "                    host of the cell) or loopback (this host only)\n"
          "Play the robot with: mtc respond --device robot-1 --interface mh1 "
-         "--service MATERIAL_LOAD\n"
-         "Runs on loopback transports: start it inside scripts/netns-run.sh.\n";
+         "--service MATERIAL_LOAD\n";
 }
 
 // The value of `--domain N`, or nothing when `text` is not a domain id.
@@ -65,23 +68,29 @@ std::optional<int> parse_domain(const char* text) {
 
 int main(int argc, char** argv) {
   int domain_id = 0;
+  mtc::qos::Transport transport = mtc::qos::Transport::Network;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
       usage(std::cout);
       return 0;
     }
-    const std::optional<int> domain =
-        arg == "--domain" && i + 1 < argc ? parse_domain(argv[++i]) : std::nullopt;
-    if (!domain) {
+    const char* value = i + 1 < argc ? argv[++i] : "";
+    const std::optional<int> domain = arg == "--domain" ? parse_domain(value) : std::nullopt;
+    const std::optional<mtc::qos::Transport> kind =
+        arg == "--transport" ? mtc::qos::parse_transport(value) : std::nullopt;
+    if (domain) {
+      domain_id = *domain;
+    } else if (kind) {
+      transport = *kind;
+    } else {
       std::cerr << "mtc-example-cnc: bad option or value: " << arg << "\n";
       usage(std::cerr);
       return 2;
     }
-    domain_id = *domain;
   }
   try {
-    return load_one_blank(domain_id);
+    return load_one_blank(domain_id, transport);
   } catch (const std::exception& e) {  // mtc::dds::Error: a DDS entity could not be created
     std::cerr << "mtc-example-cnc: " << e.what() << "\n";
     return 1;

@@ -17,6 +17,7 @@
 #include "child_process.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "raw_client.hpp"
+#include "transport.hpp"
 
 namespace mtc::bridge::test {
 namespace {
@@ -25,10 +26,12 @@ using mtc::test::ChildProcess;
 
 constexpr const char* kBridge = MTC_BRIDGE_EXE;
 
-// mtc-bridge with `args` as a child process.
+// mtc-bridge with `args` as a child process, on loopback unless `args`
+// choose a transport.
 std::unique_ptr<ChildProcess> start_bridge(const std::vector<std::string>& args) {
   std::vector<std::string> argv{kBridge};
-  argv.insert(argv.end(), args.begin(), args.end());
+  const auto chosen = mtc::test::with_loopback_transport(args);
+  argv.insert(argv.end(), chosen.begin(), chosen.end());
   return std::make_unique<ChildProcess>(argv);
 }
 

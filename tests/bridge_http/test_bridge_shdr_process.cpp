@@ -23,7 +23,7 @@ using ShdrClient = mtc::test::LineClient;  // the agent's end of an SHDR connect
 
 TEST(BridgeShdr, AnAgentOnTheShdrPortFollowsADdsDevice) {
   mtc::test::ChildProcess bridge({MTC_BRIDGE_EXE, "--domain-ids", "83", "--heartbeat-ms", "100",
-                                  "--port", "0", "--shdr-port", "0"});
+                                  "--port", "0", "--shdr-port", "0", "--transport", "loopback"});
   const auto line = bridge.wait_for_line({"SHDR adapter"}, 20s);
   ASSERT_TRUE(line) << bridge.stderr_text();
   EXPECT_NE(line->find("on 127.0.0.1:"), std::string::npos) << *line;  // loopback by default

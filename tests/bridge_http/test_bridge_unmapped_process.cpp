@@ -24,9 +24,9 @@ std::size_t occurrences(const std::string& text, const std::string& needle) {
 }
 
 TEST(BridgeDevicesFile, AValueNoDataItemTakesIsLoggedOnceByName) {
-  mtc::test::ChildProcess bridge({MTC_BRIDGE_EXE, "--devices",
-                                  std::string(MTC_DEVICES_DIR) + "/cell_1.6.xml", "--domain-ids",
-                                  "84", "--heartbeat-ms", "100", "--port", "0"});
+  mtc::test::ChildProcess bridge(
+      {MTC_BRIDGE_EXE, "--devices", std::string(MTC_DEVICES_DIR) + "/cell_1.6.xml", "--domain-ids",
+       "84", "--heartbeat-ms", "100", "--port", "0", "--transport", "loopback"});
   ASSERT_TRUE(bridge.wait_for_line({"serving"}, 20s)) << bridge.stderr_text();
 
   // The file's machine has a material handler interface with REQUEST items

@@ -18,6 +18,7 @@
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 
@@ -33,7 +34,7 @@ using detail::Writer;
 class RawPeer {
  public:
   RawPeer(int domain, const std::string& uuid, core::SubType side, core::Service service)
-      : participant_(domain, qos::participant_qos({})),
+      : participant_(domain, qos::participant_qos(mtc::test::loopback<qos::ParticipantConfig>())),
         publisher_(participant_, {topics::device_partition(uuid)}),
         heartbeat_(participant_, publisher_, uuid),
         side_(side) {

@@ -18,6 +18,7 @@
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
+#include "transport.hpp"
 
 namespace {
 
@@ -69,7 +70,8 @@ struct QuietListener : eprosima::fastdds::dds::DataWriterListener {};
 class RawDevice {
  public:
   RawDevice(int domain, const std::string& uuid)
-      : participant_(domain, mtc::qos::participant_qos({})),
+      : participant_(domain,
+                     mtc::qos::participant_qos(mtc::test::loopback<mtc::qos::ParticipantConfig>())),
         publisher_(participant_, {topics::device_partition(uuid)}),
         heartbeat_(participant_, publisher_, uuid),
         uuid_(uuid) {
@@ -135,7 +137,7 @@ class RawDevice {
 };
 
 mtc::dds::DomainObserverOptions options(int domain) {
-  mtc::dds::DomainObserverOptions o;
+  auto o = mtc::test::loopback<mtc::dds::DomainObserverOptions>();
   o.domain_id = domain;
   return o;
 }

@@ -7,6 +7,7 @@
 
 #include "equipment_fixture.hpp"
 #include "mtc/dds/domain_observer.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 namespace {
@@ -322,7 +323,7 @@ TEST(Equipment, ObserverSeesTheEquipmentAndItsDeparture) {
     if (h.device_uuid == "cnc-obs" && h.group == 0 && h.request_changes >= 1) ++heartbeats;
     cv.notify_all();
   };
-  DomainObserverOptions oo;
+  auto oo = mtc::test::loopback<DomainObserverOptions>();
   oo.domain_id = 39;
   DomainObserver observer(oo, cb);
   {

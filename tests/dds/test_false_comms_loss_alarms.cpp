@@ -23,6 +23,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/qos/participant_qos.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 
@@ -44,7 +45,7 @@ using core::InterfaceType;
 class SilentHeartbeat {
  public:
   SilentHeartbeat(int domain, const std::string& partition_uuid, const std::string& uuid)
-      : participant_(domain, qos::participant_qos({})),
+      : participant_(domain, qos::participant_qos(mtc::test::loopback<qos::ParticipantConfig>())),
         publisher_(participant_, {topics::device_partition(partition_uuid)}),
         heartbeat_(participant_, publisher_, uuid, kGroup) {
     thread_ = std::thread([this] { keep_alive(); });
@@ -106,7 +107,7 @@ TEST(FalseAlarms, SilentInstanceOfALiveCounterpartDoesNotLoseTheLink) {
     if (h.device_uuid == "robot-fa-retired" && h.group == SilentHeartbeat::kGroup) ++extra_beats;
     rec.notify();
   };
-  DomainObserverOptions oo;
+  auto oo = mtc::test::loopback<DomainObserverOptions>();
   oo.domain_id = 56;
   DomainObserver observer(oo, ocb);
   SilentHeartbeat retired(56, "robot-fa", "robot-fa-retired");

@@ -12,6 +12,7 @@
 
 #include "equipment_fixture.hpp"
 #include "mtc/dds/domain_observer.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 namespace {
@@ -31,7 +32,7 @@ TEST(HistorySpan, AnItemThatNeverChangesIsWrittenAgainAsTheOthersMoveOn) {
     }
     rec.notify();
   };
-  DomainObserverOptions oo;
+  auto oo = mtc::test::loopback<DomainObserverOptions>();
   oo.domain_id = 46;
   DomainObserver observer(oo, ocb);
   Equipment cnc(options(46, "cnc-span"));

@@ -17,6 +17,7 @@
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 
@@ -125,7 +126,8 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   robot.add_responder("mh", Service::MaterialUnload, complete_at_once);
   cnc.add_responder("door_one", Service::OpenDoor, complete_at_once);
 
-  Participant participant(kDomain, qos::participant_qos({}));
+  Participant participant(kDomain,
+                          qos::participant_qos(mtc::test::loopback<qos::ParticipantConfig>()));
   participant.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
   Topic request(participant, topics::kInteractionRequest, "mtc::idl::InteractionSample",
                 qos::state_topic().topic_qos());

@@ -230,6 +230,27 @@ TEST_F(XmlProfiles, ParticipantProfilesAreLoopbackOnlyAndMatchCode) {
   expect_loopback_participant(std::string(mtc::qos::kLoopbackUdpParticipantProfile), false);
 }
 
+// The default transport is the network (issue 10): Fast DDS's builtin
+// transports (UDPv4 on every interface + SHM) and its default discovery,
+// exactly as PARTICIPANT_QOS_DEFAULT has them.
+TEST(Profiles, TheDefaultTransportIsFastDdsBuiltinNetwork) {
+  // transport-guard: the default itself is under test
+  const mtc::qos::ParticipantConfig config;
+  EXPECT_EQ(config.transport, mtc::qos::Transport::Network);
+  const auto code = mtc::qos::participant_qos(config);
+  const auto& fast_dds = eprosima::fastdds::dds::PARTICIPANT_QOS_DEFAULT;
+  EXPECT_TRUE(code.transport().use_builtin_transports);
+  EXPECT_TRUE(code.transport().user_transports.empty());
+  const auto& builtin = code.wire_protocol().builtin;
+  EXPECT_EQ(builtin.initialPeersList, fast_dds.wire_protocol().builtin.initialPeersList);
+  EXPECT_EQ(builtin.metatrafficUnicastLocatorList,
+            fast_dds.wire_protocol().builtin.metatrafficUnicastLocatorList);
+  EXPECT_EQ(builtin.metatrafficMulticastLocatorList,
+            fast_dds.wire_protocol().builtin.metatrafficMulticastLocatorList);
+  EXPECT_EQ(code.wire_protocol().default_multicast_locator_list,
+            fast_dds.wire_protocol().default_multicast_locator_list);
+}
+
 TEST(Profiles, ParticipantProfilesAndTransportNames) {
   EXPECT_EQ(mtc::qos::participant_config("mtc.participant.loopback_udp").transport,
             mtc::qos::Transport::LoopbackUdp);

@@ -19,6 +19,7 @@
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "security_pki.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 namespace {
@@ -195,7 +196,7 @@ TEST_F(Security, TamperedGovernanceIsRejectedNamingTheFile) {
   text.replace(at, std::string("<data_protection_kind>ENCRYPT").size(),
                "<data_protection_kind>NONE");
   security_test::write_text(dir + "/governance.p7s", text);
-  DomainObserverOptions oo;
+  auto oo = mtc::test::loopback<DomainObserverOptions>();
   oo.domain_id = 130;
   oo.security_dir = dir;
   const auto what = what_of([&] { DomainObserver observer(oo, {}); });

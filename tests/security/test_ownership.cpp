@@ -15,6 +15,7 @@
 #include "../dds/equipment_fixture.hpp"
 #include "../dds/raw_peer.hpp"
 #include "mtc/dds/domain_observer.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 namespace {
@@ -100,7 +101,7 @@ TEST(Ownership, ObserverKeepsTheDeviceOfTheParticipantThatAnnouncedItFirst) {
     reports.push_back(report);
     cv.notify_all();
   };
-  DomainObserverOptions oo;
+  auto oo = mtc::test::loopback<DomainObserverOptions>();
   oo.domain_id = 136;
   DomainObserver observer(oo, ocb);
 
@@ -171,7 +172,7 @@ TEST(Ownership, ARestartedDeviceTakesOverOnceTheOldOwnerIsLost) {
     reports.push_back(report);
     cv.notify_all();
   };
-  DomainObserverOptions oo;
+  auto oo = mtc::test::loopback<DomainObserverOptions>();
   oo.domain_id = 137;
   DomainObserver observer(oo, ocb);
 

@@ -24,6 +24,7 @@
 
 #include "child_process.hpp"
 #include "json_field.hpp"
+#include "transport.hpp"
 
 namespace mtc::test {
 
@@ -37,7 +38,8 @@ inline constexpr milliseconds kHandshakeTimeout{30000};
 inline constexpr const char* kDefaultMissedHeartbeats = "10";
 
 // Argument list for `mtc <command> --domain <domain> --json <args...>`, with
-// the default lease unless args set --missed-heartbeats.
+// the default lease unless args set --missed-heartbeats, on loopback unless
+// args choose a transport (the tool's default is the network).
 inline std::vector<std::string> mtc_argv(const std::string& command, int domain,
                                          std::vector<std::string> args) {
   std::vector<std::string> argv = {MTC_CLI_PATH, command, "--domain", std::to_string(domain),
@@ -45,6 +47,7 @@ inline std::vector<std::string> mtc_argv(const std::string& command, int domain,
   if (std::find(args.begin(), args.end(), "--missed-heartbeats") == args.end()) {
     argv.insert(argv.end(), {"--missed-heartbeats", kDefaultMissedHeartbeats});
   }
+  args = with_loopback_transport(std::move(args));
   argv.insert(argv.end(), args.begin(), args.end());
   return argv;
 }

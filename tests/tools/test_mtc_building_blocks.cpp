@@ -142,5 +142,38 @@ TEST(Profiles, ParticipantProfilesSelectTheTransportEndpointPresetsAreRefused) {
   EXPECT_THROW(parse_common_options(parse_args(spec, {"--qos-profile", "mtc.fast"})), UsageError);
 }
 
+// Every command's transport: the network unless --transport or a participant
+// profile chooses (issue 10). request and respond parse equipment options,
+// watch and list observer options.
+TEST(Transport, EveryCommandDefaultsToTheNetwork) {
+  CommandSpec equipment;
+  equipment.name = "request";
+  add_common_options(equipment);
+  add_equipment_options(equipment, false);
+  const std::vector<std::string> base = {"--device",  "cnc-1",         "--interface",   "mh1",
+                                         "--service", "MATERIAL_LOAD", "--counterpart", "robot-1"};
+  const auto equipment_transport = [&](std::vector<std::string> extra) {
+    extra.insert(extra.begin(), base.begin(), base.end());
+    return parse_equipment_options(parse_args(equipment, extra), false, true).transport;
+  };
+  EXPECT_EQ(equipment_transport({}), qos::Transport::Network);
+  EXPECT_EQ(equipment_transport({"--transport", "loopback"}), qos::Transport::Loopback);
+  EXPECT_EQ(equipment_transport({"--qos-profile", "mtc.participant.loopback_udp"}),
+            qos::Transport::LoopbackUdp);
+
+  CommandSpec observer;
+  observer.name = "watch";
+  add_common_options(observer);
+  add_observer_options(observer);
+  const auto observer_transport = [&](const std::vector<std::string>& args) {
+    const auto parsed = parse_args(observer, args);
+    return parse_observer_options(parsed, parse_common_options(parsed)).transport;
+  };
+  EXPECT_EQ(observer_transport({}), qos::Transport::Network);
+  EXPECT_EQ(observer_transport({"--transport", "loopback"}), qos::Transport::Loopback);
+  EXPECT_EQ(EquipmentConfig{}.transport, qos::Transport::Network);
+  EXPECT_EQ(ObserverSettings{}.transport, qos::Transport::Network);
+}
+
 }  // namespace
 }  // namespace mtc::cli

@@ -19,6 +19,8 @@ struct MtcRun {
   std::string err;
 };
 
+// transport-guard: usage errors and --help only, refused before any
+// participant exists; the argument lists stay exactly as written.
 MtcRun run_mtc(std::vector<std::string> args) {
   args.insert(args.begin(), MTC_CLI_PATH);
   ChildProcess child(args);

@@ -47,7 +47,8 @@ class LiveCell:
 
     def __enter__(self):
         self.bridge = subprocess.Popen(
-            [os.path.join(self.apps, "mtc-bridge"), "--domain-ids", str(self.domain),
+            [os.path.join(self.apps, "mtc-bridge"), "--transport", "loopback",
+             "--domain-ids", str(self.domain),
              "--port", str(self.port)] + self.timing,
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=_die_with_parent)
         first = self.bridge.stdout.readline().decode("utf-8", "replace")
@@ -61,7 +62,8 @@ class LiveCell:
 
     def start_cell(self):
         self.cell = subprocess.Popen(
-            [os.path.join(self.apps, "mtc-cell"), "--domain", str(self.domain)] + self.timing +
+            [os.path.join(self.apps, "mtc-cell"), "--transport", "loopback",
+             "--domain", str(self.domain)] + self.timing +
             self.cell_args,
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=_die_with_parent)
         _drain(self.cell.stdout, self.cell_log)

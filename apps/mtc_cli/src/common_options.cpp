@@ -10,7 +10,7 @@ void add_common_options(CommandSpec& spec) {
   spec.options.push_back(
       {"qos-profile", "NAME",
        "participant QoS profile, which selects the transport (" + known_profiles_text() + ")",
-       "loopback transport"});
+       "none: --transport"});
   spec.options.push_back({"security", "DIR",
                           "DDS-Security identity directory (scripts/security/make-pki.sh)",
                           "unsecured"});

@@ -30,11 +30,12 @@ std::string transport_names(const std::string& last) {
   return text;
 }
 
-// --transport, else the transport of a participant --qos-profile, else loopback.
+// --transport, else the transport of a participant --qos-profile, else the
+// network (the runtime's default).
 qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& common) {
   const auto text = args.value("transport");
   if (!text) {
-    return common.profile_transport.value_or(qos::Transport::Loopback);
+    return common.profile_transport.value_or(qos::Transport::Network);
   }
   const auto parsed = qos::parse_transport(*text);
   if (!parsed) {
@@ -138,9 +139,9 @@ std::vector<std::chrono::milliseconds> parse_action_ms(const std::string& text) 
 
 void add_observer_options(CommandSpec& spec) {
   spec.options.push_back({"transport", "KIND",
-                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, network (every "
-                          "interface: a real cell network only)",
-                          "loopback"});
+                          "network (UDP on every interface + SHM: the cell's hosts), loopback "
+                          "(UDP 127.0.0.1 + SHM: this host only), loopback-udp, test",
+                          "network"});
   add_timing_options(spec, "heartbeat period of the watched devices",
                      "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
                      "or their items do not match)");
@@ -173,9 +174,9 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
                           "--counterpart): pair with exactly that interface",
                           ""});
   spec.options.push_back({"transport", "KIND",
-                          "loopback (UDP 127.0.0.1 + SHM), loopback-udp, test, network (every "
-                          "interface: a real cell network only)",
-                          "loopback"});
+                          "network (UDP on every interface + SHM: the cell's hosts), loopback "
+                          "(UDP 127.0.0.1 + SHM: this host only), loopback-udp, test",
+                          "network"});
   add_timing_options(spec, "heartbeat period of every data item",
                      "heartbeats missed before the peer counts as lost");
   spec.options.push_back({"fail-ack-timeout", "TIME",

@@ -29,7 +29,7 @@ struct EquipmentConfig {
   // --peer UUID/INTERFACE: also the counterpart's interface id (empty: the
   // first of its interfaces that complements ours).
   std::string counterpart_interface;
-  qos::Transport transport = qos::Transport::Loopback;
+  qos::Transport transport = qos::Transport::Network;
   qos::Timing timing;    // --heartbeat-ms, --missed-heartbeats
   int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
   std::chrono::milliseconds fail_ack_timeout{2000};
@@ -61,7 +61,7 @@ FailPlan parse_fail_options(const ParsedArgs& args, bool responder);
 void add_observer_options(CommandSpec& spec);
 // Fills transport and timing of a DomainObserverOptions-like struct.
 struct ObserverSettings {
-  qos::Transport transport = qos::Transport::Loopback;
+  qos::Transport transport = qos::Transport::Network;
   qos::Timing timing;  // --heartbeat-ms, --missed-heartbeats
 };
 ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common);

@@ -71,8 +71,9 @@ struct DomainObserverOptions {
   // devices' writers.
   // Only these devices (uuid); empty = all.
   std::vector<std::string> device_filter;
-  // Transport of the observer's participant (loopback only by default).
-  qos::Transport transport = qos::Transport::Loopback;
+  // Transport of the observer's participant: the network by default (as
+  // EquipmentOptions::transport), qos::Transport::Loopback for this host only.
+  qos::Transport transport = qos::Transport::Network;
   // DDS-Security identity of the observer (a read-only one from
   // scripts/security/make-pki.sh); empty: unsecured.
   std::string security_dir;

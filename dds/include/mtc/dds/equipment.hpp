@@ -195,7 +195,9 @@ struct EquipmentOptions {
   std::string device_uuid;
   std::string device_name;  // defaults to device_uuid
   qos::Timing timing;       // heartbeat, lease, RTPS heartbeat, discovery
-  qos::Transport transport = qos::Transport::Loopback;
+  // Network (Fast DDS's UDPv4 + SHM, default discovery) reaches the cell's
+  // other hosts; qos::Transport::Loopback keeps DDS on this host.
+  qos::Transport transport = qos::Transport::Network;
   qos::FaultInjection faults;  // qos::Transport::LoopbackTest only
   core::Profile profile = core::Profile::V1_6;
   RecoveryPolicy recovery = RecoveryPolicy::AfterCommsLoss;

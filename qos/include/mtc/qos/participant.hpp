@@ -3,7 +3,12 @@
 // one). participant_qos.hpp turns a ParticipantConfig into Fast DDS QoS
 // inside qos/ and dds/.
 //
-// The loopback transports Loopback (the default) and LoopbackUdp confine DDS
+// Network (the default) is Fast DDS's builtin transports with its default
+// discovery (SPDP multicast, every interface): what a cell that spans
+// machines needs. Tests, benchmarks and the main job choose a loopback
+// transport explicitly.
+//
+// The loopback transports Loopback and LoopbackUdp confine DDS
 // to the host by configuration, not by a network namespace: the builtin
 // transports are switched off, UDPv4 is restricted to 127.0.0.1
 // (interfaceWhiteList) and discovery uses no multicast: each
@@ -32,11 +37,12 @@
 namespace mtc::qos {
 
 enum class Transport : std::uint8_t {
-  Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest): default
+  Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest)
   LoopbackUdp,   // UDPv4 on 127.0.0.1 only
   LoopbackTest,  // Fast DDS test_UDPv4 transport on 127.0.0.1: fault injection
-  Network,       // Fast DDS builtin transports (UDPv4 on every interface + SHM):
-                 // for deployment on a real cell network only, never in tests
+  Network,       // Fast DDS builtin transports (UDPv4 on every interface + SHM),
+                 // default discovery: the default, for a real cell network;
+                 // tests use it only inside their own network namespaces
 };
 
 inline constexpr std::array<Transport, 4> kAllTransports = {
@@ -60,7 +66,7 @@ struct FaultInjection {
 
 struct ParticipantConfig {
   std::string name = "mtc";
-  Transport transport = Transport::Loopback;
+  Transport transport = Transport::Network;
   FaultInjection faults;
   Timing timing;
   // DDS-Security: a directory made by scripts/security/make-pki.sh for one
