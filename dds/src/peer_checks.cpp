@@ -11,16 +11,11 @@ std::string item_name(const ObservedValue& v) {
 // Only the sequence of one writer's item says anything: different items of
 // one writer share a counter but may be delivered in any order, and a
 // sample delivered again after a writer was matched anew repeats its number.
-std::optional<std::string> order_problem(std::uint64_t newest, std::uint64_t received) {
-  if (newest == 0) return std::nullopt;
-  if (received < newest) {
-    return "change number went back from " + std::to_string(newest) + " to " +
-           std::to_string(received);
-  }
-  if (received - newest > PeerChecks::kLargestPlausibleLeap) {
-    return "change number leapt from " + std::to_string(newest) + " to " + std::to_string(received);
-  }
-  return std::nullopt;
+bool went_back(std::uint64_t newest, std::uint64_t received) {
+  return newest != 0 && received < newest;
+}
+bool leapt(std::uint64_t newest, std::uint64_t received) {
+  return newest != 0 && received > newest && received - newest > PeerChecks::kLargestPlausibleLeap;
 }
 
 }  // namespace
@@ -46,10 +41,18 @@ PeerChecks::Verdict PeerChecks::check(std::size_t group, const Handle& writer,
                 "state " + std::to_string(value.state.raw()) + " is outside its vocabulary");
   }
   auto& newest = newest_[GroupItemKey{writer, group, value.data_item_id}];
-  if (auto problem = order_problem(newest, value.sequence_number)) {
-    report_once(reported.order, *problem +
-                                    " (a writer's change numbers only grow); its values are "
-                                    "still applied in the order they arrive");
+  // Text only when there is something to say: this runs for every sample.
+  const auto numbers = [&] {
+    return " from " + std::to_string(newest) + " to " + std::to_string(value.sequence_number);
+  };
+  if (went_back(newest, value.sequence_number)) {
+    report_once(reported.back, "change number went back" + numbers() +
+                                   " (a writer's change numbers only grow); its values are "
+                                   "still applied in the order they arrive");
+  } else if (leapt(newest, value.sequence_number)) {
+    report_once(reported.leap, "change number leapt" + numbers() +
+                                   " (more changes than a writer makes between two "
+                                   "deliveries); its values are still applied");
   }
   // Follow the writer from here, so one bad number is one report, not a
   // report for every sample after it.

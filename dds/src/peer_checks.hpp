@@ -52,7 +52,8 @@ class PeerChecks {
   struct Reported {
     bool state = false;
     bool vocabulary = false;
-    bool order = false;
+    bool back = false;
+    bool leap = false;
   };
   std::map<GroupItemKey, std::uint64_t> newest_;
   std::map<ItemKey, Reported> reported_;
