@@ -6,11 +6,14 @@
 // Domain ids 190-193 (tools tests, third range; see mtc_fixture.hpp).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <iostream>
 #include <limits>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "mtc_fixture.hpp"
 #include "rogue_peer.hpp"
@@ -112,12 +115,38 @@ TEST(HostilePeer, ChangeNumbersThatLeapOrGoBackAreReportedOnce) {
   EXPECT_EQ(err.find("went back from"), err.rfind("went back from")) << machine->transcript();
 }
 
+// Reads the output of children nobody waits on, so that their pipes never
+// fill (a child blocked on a full stdout would look like a stuck runtime).
+class Drainer {
+ public:
+  explicit Drainer(std::vector<ChildProcess*> children)
+      : children_(std::move(children)), thread_([this] { run(); }) {}
+  ~Drainer() { stop(); }
+  Drainer(const Drainer&) = delete;
+  Drainer& operator=(const Drainer&) = delete;
+  void stop() {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  void run() {
+    while (running_) {
+      for (auto* child : children_)
+        child->wait_for_line({"\"event\":\"never printed\""}, milliseconds(20));
+    }
+  }
+  std::vector<ChildProcess*> children_;
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
 // 10,000 changes as fast as the rogue can write them, against one machine,
 // while another robot and machine run their handshakes on the same domain.
 TEST(HostilePeer, AFloodingPeerLeavesOtherPairsAlone) {
   constexpr int kDomain = 193;
   constexpr int kFlood = 10000;
-  constexpr int kHandshakes = 100;
+  constexpr int kHandshakes = 40;
   auto flooded = start_machine(kDomain, "machine-1", "robot-1");
   auto machine = start_machine(kDomain, "machine-2", "robot-2");
   RoguePeer rogue(kDomain, "robot-1", "mh", core::Service::MaterialLoad, core::SubType::Request,
@@ -129,28 +158,38 @@ TEST(HostilePeer, AFloodingPeerLeavesOtherPairsAlone) {
   ASSERT_TRUE(
       robot->wait_for_line({"\"event\":\"outcome\"", "\"handshake\":1,"}, kHandshakeTimeout))
       << robot->transcript();
-  const auto start = std::chrono::steady_clock::now();
-  for (int i = 0; i < kFlood; ++i) {
-    rogue.set_state(i % 2 == 0 ? InteractionState::NotReady : InteractionState::Ready);
-  }
-  const auto flood_ms =
-      std::chrono::duration_cast<milliseconds>(std::chrono::steady_clock::now() - start).count();
+  Drainer drainer({flooded.get(), machine.get()});
+  // The flood runs beside the handshakes (each of which takes longer than
+  // writing 10,000 samples takes in total on a quiet machine, so the pair
+  // is mid-run throughout).
+  std::atomic<long long> flood_ms{-1};
+  std::thread flood([&] {
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < kFlood; ++i) {
+      rogue.set_state(i % 2 == 0 ? InteractionState::NotReady : InteractionState::Ready);
+    }
+    flood_ms =
+        std::chrono::duration_cast<milliseconds>(std::chrono::steady_clock::now() - start).count();
+  });
+  const auto exit_code = robot->wait_exit(kHandshakeTimeout * 2);
+  flood.join();
+  drainer.stop();
   std::cout << "flood: " << kFlood << " changes in " << flood_ms << " ms\n";
-
-  ASSERT_EQ(robot->wait_exit(kHandshakeTimeout * 2), 0) << robot->transcript();
+  ASSERT_EQ(exit_code, 0) << robot->transcript();
   const auto out = outcomes(*robot);
   ASSERT_EQ(out.size(), static_cast<std::size_t>(kHandshakes)) << robot->transcript();
   for (std::size_t i = 0; i < out.size(); ++i) {
     EXPECT_EQ(out[i].handshake, static_cast<int>(i) + 1);
     EXPECT_EQ(out[i].result, "COMPLETE") << out[i].line;
   }
-  // The flooded machine is alive and moved by nothing but the flood's last
-  // value: its next handshake with the rogue completes.
+  // The flooded machine is alive and was moved by nothing but the flood's
+  // values: its next handshake with the rogue completes.
   ASSERT_TRUE(flooded->running()) << flooded->transcript();
-  ASSERT_TRUE(rogue.wait_counterpart(InteractionState::Ready, kStep)) << flooded->transcript();
   const auto outcome = rogue_handshake(rogue, *flooded, 1);
   ASSERT_TRUE(outcome) << flooded->transcript();
   EXPECT_EQ(json_field(*outcome, "result"), "COMPLETE") << flooded->transcript();
+  EXPECT_EQ(flooded->stderr_text().find("protocol violation"), std::string::npos)
+      << "legal changes are no violation, however many";
 }
 
 }  // namespace
