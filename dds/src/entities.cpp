@@ -1,12 +1,7 @@
 #include "mtc/dds/detail/entities.hpp"
 
-#include <pthread.h>
-#include <sched.h>
-
-#include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <iostream>
-#include <string>
 
 #include "mtc/dds/detail/return_code.hpp"
 #include "mtc/qos/participant_qos.hpp"
@@ -23,49 +18,13 @@ void report(const ReturnCode& code, const char* what) {
   }
 }
 
-// Under CPU starvation the false comms-loss alarms came from the reading
-// side: Fast DDS's receive and event threads queued behind the load with the
-// peer's heartbeats unread in their sockets while our heartbeat threads
-// (SCHED_FIFO) kept writing (docs/benchmarks.md#cpu-starvation). Fast DDS
-// 2.9 has no setting for its threads' scheduling, but threads inherit their
-// creator's policy: the participant is created while the calling thread holds
-// SCHED_FIFO priority 1, which its receive, event and SHM listener threads
-// keep. They only block on sockets and timers and hand samples off, so they
-// cannot monopolise a core. Without the privilege (EPERM) nothing changes.
-// MTC_NO_REALTIME=1 in the environment opts out.
-class RealtimeWhileCreating {
- public:
-  RealtimeWhileCreating() noexcept {
-    const char* opt_out = std::getenv("MTC_NO_REALTIME");
-    if (opt_out != nullptr && std::string(opt_out) == "1") return;
-    if (pthread_getschedparam(pthread_self(), &policy_, &param_) != 0) return;
-    if (policy_ != SCHED_OTHER) return;  // already real-time, or batch/idle on purpose
-    sched_param realtime{};
-    realtime.sched_priority = 1;
-    raised_ = pthread_setschedparam(pthread_self(), SCHED_FIFO, &realtime) == 0;
-  }
-  ~RealtimeWhileCreating() {
-    if (raised_) pthread_setschedparam(pthread_self(), policy_, &param_);
-  }
-  RealtimeWhileCreating(const RealtimeWhileCreating&) = delete;
-  RealtimeWhileCreating& operator=(const RealtimeWhileCreating&) = delete;
-
- private:
-  int policy_ = SCHED_OTHER;
-  sched_param param_{};
-  bool raised_ = false;
-};
-
 }  // namespace
 
 Participant::Participant(int domain_id, const fdds::DomainParticipantQos& qos) {
   fdds::DomainParticipantQos anchored = qos;
   qos::anchor_discovery_port(anchored, domain_id);
-  {
-    const RealtimeWhileCreating realtime;
-    participant_ =
-        fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, anchored);
-  }
+  participant_ =
+      fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, anchored);
   if (participant_ == nullptr) {
     const std::string what = "create_participant(domain " + std::to_string(domain_id) + ")";
     const std::string security_dir = qos::security_dir_of(qos);
