@@ -3,7 +3,7 @@
 // test process plays that device (RoguePeer) against real `mtc` processes:
 // every such sample is reported by name as a protocol violation, never
 // crashes the counterpart nor moves it wrongly, and other pairs carry on.
-// Domain ids 190-193 (tools tests, third range; see mtc_fixture.hpp).
+// Domain ids 190-194 (tools tests, third range; see mtc_fixture.hpp).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -85,6 +85,10 @@ TEST(HostilePeer, ServiceOutsideTheVocabularyIsReportedAndIgnored) {
   // then run one clean handshake.
   robot.set_raw_service(99);
   robot.set_state(InteractionState::Active);
+  // KEEP_LAST 1: the next change of the item could replace this one before
+  // it is sent, so wait until the machine has had it.
+  EXPECT_TRUE(machine->wait_for_stderr("carries a service outside the vocabulary", kStep))
+      << machine->transcript();
   robot.set_service(core::Service::MaterialLoad);
   const auto outcome = rogue_handshake(robot, *machine, 1);
   ASSERT_TRUE(outcome) << machine->transcript();
@@ -101,9 +105,14 @@ TEST(HostilePeer, ChangeNumbersThatLeapOrGoBackAreReportedOnce) {
                   "machine-1");
   robot.set_state(InteractionState::Ready);
   ASSERT_TRUE(robot.wait_counterpart(InteractionState::Ready, kStep)) << machine->transcript();
+  // Each waits for its report: KEEP_LAST 1 could replace a change of the
+  // item by the next before it is sent.
   robot.set_next_sequence(std::numeric_limits<std::uint64_t>::max() - 8,
                           InteractionState::NotReady);
+  ASSERT_TRUE(machine->wait_for_stderr("change number leapt from", kStep)) << machine->transcript();
   robot.set_next_sequence(3, InteractionState::Ready);
+  ASSERT_TRUE(machine->wait_for_stderr("change number went back from", kStep))
+      << machine->transcript();
   robot.set_next_sequence(2, InteractionState::NotReady);  // again: no second report
   // The values still apply in the order they came: a clean handshake.
   const auto outcome = rogue_handshake(robot, *machine, 1);
@@ -113,6 +122,27 @@ TEST(HostilePeer, ChangeNumbersThatLeapOrGoBackAreReportedOnce) {
   EXPECT_TRUE(contains(err, "change number leapt from")) << machine->transcript();
   EXPECT_TRUE(contains(err, "change number went back from")) << machine->transcript();
   EXPECT_EQ(err.find("went back from"), err.rfind("went back from")) << machine->transcript();
+}
+
+// A requester whose process exits right after COMPLETE, before its READY
+// got out (the vendor example does so once in a while on a loaded machine):
+// the responder's handshake is over, and `respond --count 1` exits.
+TEST(HostilePeer, RequesterLeavingRightAfterCompleteEndsTheHandshake) {
+  constexpr int kDomain = 194;
+  auto machine = start_responder(
+      kDomain, {"--device", "machine-1", "--interface", "mh", "--service", "MATERIAL_LOAD",
+                "--counterpart", "robot-1", "--action-ms", "10", "--count", "1"});
+  {
+    RoguePeer robot(kDomain, "robot-1", "mh", core::Service::MaterialLoad, core::SubType::Request,
+                    "machine-1");
+    robot.set_state(InteractionState::Ready);
+    robot.set_state(InteractionState::Active);
+    ASSERT_TRUE(robot.wait_counterpart(InteractionState::Complete, kStep)) << machine->transcript();
+  }  // gone without READY
+  const auto outcome = wait_outcome(*machine, 1);
+  ASSERT_TRUE(outcome) << machine->transcript();
+  EXPECT_EQ(json_field(*outcome, "result"), "COMPLETE");
+  EXPECT_EQ(machine->wait_exit(kHandshakeTimeout), 0) << machine->transcript();
 }
 
 // Reads the output of children nobody waits on, so that their pipes never
