@@ -105,8 +105,11 @@ TEST(HostilePeer, ChangeNumbersThatLeapOrGoBackAreReportedOnce) {
                   "machine-1");
   robot.set_state(InteractionState::Ready);
   ASSERT_TRUE(robot.wait_counterpart(InteractionState::Ready, kStep)) << machine->transcript();
-  // Each waits for its report: KEEP_LAST 1 could replace a change of the
-  // item by the next before it is sent.
+  // The machine has taken a first number of the item (its READY answers on
+  // its own, so wait for its view of ours). Each change below then waits for
+  // its report: KEEP_LAST 1 could replace it by the next before it is sent.
+  ASSERT_TRUE(machine->wait_for_line({"\"side\":\"request\"", "\"state\":\"READY\""}, kStep))
+      << machine->transcript();
   robot.set_next_sequence(std::numeric_limits<std::uint64_t>::max() - 8,
                           InteractionState::NotReady);
   ASSERT_TRUE(machine->wait_for_stderr("change number leapt from", kStep)) << machine->transcript();
