@@ -165,8 +165,9 @@ class Drainer {
  private:
   void run() {
     while (running_) {
-      for (auto* child : children_)
+      for (auto* child : children_) {
         child->wait_for_line({"\"event\":\"never printed\""}, milliseconds(20));
+      }
     }
   }
   std::vector<ChildProcess*> children_;
