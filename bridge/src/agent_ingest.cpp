@@ -23,6 +23,13 @@ std::int64_t now_ns() {
       .count();
 }
 
+// What a document shows for a state: a number outside the vocabulary (a
+// peer's protocol violation, reported by the observer) is not a value the
+// schemas allow, and guessing a state would be worse than saying none.
+std::string observation_text(const core::ObservedState& state) {
+  return state.in_vocabulary() ? core::to_string(state) : std::string(kUnavailable);
+}
+
 bool same_items(const core::ObservedInterface& a, const core::ObservedInterface& b) {
   if (a.id != b.id || a.name != b.name || a.type != b.type ||
       a.data_items.size() != b.data_items.size()) {
@@ -153,7 +160,7 @@ void AgentImpl::rebuild_model() {
     if (const auto item = model_.find_item(it->first.first, it->first.second)) {
       const core::ObservedValue& v = it->second;
       const std::int64_t t = v.source_time_ns != 0 ? v.source_time_ns : model_change_ns_;
-      append_if_changed(model_.data_items()[*item].slot, core::to_string(v.state), t);
+      append_if_changed(model_.data_items()[*item].slot, observation_text(v.state), t);
       it = pending_.erase(it);
     } else {
       ++it;
@@ -320,7 +327,7 @@ void AgentImpl::add_value(const core::ObservedValue& received) {
                            : value.reception_time_ns != 0 ? value.reception_time_ns
                                                           : now_ns();
     const DataItemInfo& info = model_.data_items()[*item];
-    append_if_changed(info.slot, core::to_string(value.state), t);
+    append_if_changed(info.slot, observation_text(value.state), t);
     // A device that sends values is reachable, announced or not.
     set_available(info.device, t);
     appended = buffer_.next_sequence() - before;

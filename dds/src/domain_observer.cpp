@@ -15,6 +15,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
+#include "peer_checks.hpp"
 #include "peer_groups.hpp"
 
 namespace mtc::dds {
@@ -57,6 +58,7 @@ struct DomainObserver::Impl {
   std::set<ItemKey> lost_items;
   std::set<std::string> lost_devices;
   detail::PeerGroups peer_groups;
+  detail::PeerChecks peer_checks;
   // Groups already reported lost by silence (a cue or the backstop), so
   // the backstop neither repeats itself nor wakes for them again.
   std::set<detail::PeerGroupKey> silent_groups;
@@ -95,6 +97,14 @@ struct DomainObserver::Impl {
     return false;
   }
 
+  void protocol_violation(const std::string& device, const std::string& report) {
+    if (callbacks.on_protocol_violation) {
+      callbacks.on_protocol_violation(device, report);
+    } else {
+      std::cerr << "mtc::dds::DomainObserver: " << report << "\n";
+    }
+  }
+
   void handle(detail::ValueEvent& e) {
     const auto& v = e.value;
     if (!wanted(v.device_uuid)) return;
@@ -102,6 +112,9 @@ struct DomainObserver::Impl {
       owners.hold(0, e);
       return;
     }
+    const auto verdict = peer_checks.check(0, e.writer, v);
+    if (verdict.report) protocol_violation(v.device_uuid, *verdict.report);
+    if (!verdict.use) return;
     auto& w = writers[e.writer];
     w.device = v.device_uuid;
     w.items.insert(v.data_item_id);
@@ -223,6 +236,7 @@ struct DomainObserver::Impl {
 
   void handle(detail::WriterLivelinessEvent& e) {
     if (e.alive) return;  // heartbeats and values say when it is back
+    if (e.unmatched) peer_checks.forget_writer(e.writer);
     if (const auto* key = peer_groups.heartbeat_writer(e.writer)) {
       heartbeat_writer_lost(e, *key);
       return;

@@ -26,7 +26,10 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
           on_gone(group, e.topic, e.instance, "disposed or no writers");
         } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
-          if (!e.alive && e.unmatched) on_writer_lost(group, e.writer, "writer unmatched", false);
+          if (!e.alive && e.unmatched) {
+            peer_checks.forget_writer(e.writer);
+            on_writer_lost(group, e.writer, "writer unmatched", false);
+          }
           if (!e.alive && !e.unmatched) {
             on_writer_lost(group, e.writer, "writer liveliness lost", true);
           }
@@ -151,6 +154,9 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     owners.hold(group, e);
     return;
   }
+  const auto verdict = peer_checks.check(group, e.writer, v);
+  if (verdict.report) diagnostic(*verdict.report);
+  if (!verdict.use) return;
   writer_device[e.writer] = v.device_uuid;
   instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id, 0};
   writer_interfaces[e.writer].insert(v.interface_id);

@@ -23,6 +23,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
+#include "peer_checks.hpp"
 #include "peer_groups.hpp"
 
 namespace mtc::dds {
@@ -166,6 +167,7 @@ struct EquipmentImpl {
   // Last change number per (timing group whose tap saw it, writer).
   std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
   detail::PeerGroups peer_groups;
+  detail::PeerChecks peer_checks;  // what a peer writes that the types cannot forbid
   // The last value of every item of every device our readers saw, paired or
   // not: an interface that pairs later starts from what is already known
   // (items are written on change only; nothing else would bring them).

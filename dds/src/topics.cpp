@@ -1,5 +1,6 @@
 #include "mtc/dds/detail/topics.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <chrono>
@@ -158,8 +159,31 @@ std::optional<std::string> check_device_uuid(std::string_view uuid) {
   return check_token("device uuid", uuid, false);
 }
 
+// An interface id is the prefix of its data item ids, which travel in the
+// same 64-character IDL strings: the id may only be as long as leaves room
+// for the longest suffix (Fast DDS would cut a longer item id short without
+// a word, and two interfaces with a long common prefix would then share
+// items).
+namespace {
+std::size_t longest_item_suffix() {
+  std::size_t longest = std::string_view("_interface_state").size();
+  for (const auto service : core::kAllServices) {
+    longest = std::max(longest, interaction_item_id("", service, core::SubType::Response).size());
+  }
+  return longest;
+}
+}  // namespace
+
 std::optional<std::string> check_interface_id(std::string_view id) {
-  return check_token("interface id", id, true);
+  if (auto problem = check_token("interface id", id, true)) return problem;
+  static const std::size_t limit = 64 - longest_item_suffix();
+  if (id.size() > limit) {
+    return "interface id \"" + std::string(id) + "\" has " + std::to_string(id.size()) +
+           " characters; at most " + std::to_string(limit) +
+           " leave room for its data item ids (e.g. <id>_material_retract_response) in the 64 "
+           "characters the wire contract allows";
+  }
+  return std::nullopt;
 }
 
 std::string interaction_item_id(std::string_view interface_id, core::Service service,

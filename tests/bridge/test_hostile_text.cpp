@@ -111,5 +111,33 @@ TEST(HostileText, ADeviceAnnouncedWithControlCharactersKeepsDocumentsValid) {
   EXPECT_EQ(after.text("//DeviceStream[starts-with(@uuid,'robot')]//Availability"), "UNAVAILABLE");
 }
 
+// A peer's state number outside the Part 5 vocabulary (7, 200) is neither
+// printed as it came ("INVALID(200)" would break the schemas' enumerations)
+// nor taken for a state: the item reads UNAVAILABLE until a valid value
+// comes, and every document stays valid.
+TEST(HostileText, StatesOutsideTheVocabularyReadUnavailable) {
+  auto agent = test::announced_cell(kVersion, 64);
+  const std::string item = "robot.material_load.rsp";
+  agent->add_value(value("robot-0001", item, core::InteractionState::Ready, kT0));
+  for (const std::int32_t raw : {7, 200}) {
+    agent->add_value(value(
+        "robot-0001", item,
+        core::ObservedState::outside_vocabulary(core::ItemKind::Interaction, raw), kT0 + raw));
+    const Response current = test::get(*agent, "/current");
+    expect_valid(current, "MTConnectStreams", "current after state " + std::to_string(raw));
+    test::Doc d(current.body);
+    ASSERT_TRUE(d.ok);
+    EXPECT_EQ(d.text("//DeviceStream[@uuid='robot-0001']//MaterialLoad"), "UNAVAILABLE")
+        << "state " << raw;
+  }
+  agent->add_value(value("robot-0001", "robot.mh.state",
+                         core::ObservedState::outside_vocabulary(core::ItemKind::InterfaceState, 9),
+                         kT0 + 300));
+  expect_valid(test::get(*agent, "/sample"), "MTConnectStreams", "sample");
+  agent->add_value(value("robot-0001", item, core::InteractionState::Active, kT0 + 400));
+  test::Doc back(test::get(*agent, "/current").body);
+  EXPECT_EQ(back.text("//DeviceStream[@uuid='robot-0001']//MaterialLoad"), "ACTIVE");
+}
+
 }  // namespace
 }  // namespace mtc::bridge

@@ -175,6 +175,20 @@ std::optional<std::string> ChildProcess::wait_for_line(const std::vector<std::st
   }
 }
 
+bool ChildProcess::wait_for_stderr(const std::string& needle, milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  // pump() returns early only for stdout lines: wait in short slices.
+  constexpr milliseconds kSlice{50};
+  while (err_text_.find(needle) == std::string::npos) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline || (out_fd_ < 0 && err_fd_ < 0)) {
+      return false;
+    }
+    pump(std::min(deadline, now + kSlice));
+  }
+  return true;
+}
+
 void ChildProcess::send_signal(int signal_number) {
   if (running()) {
     kill(pid_, signal_number);

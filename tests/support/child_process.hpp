@@ -32,6 +32,10 @@ class ChildProcess {
   // nullopt when the timeout passes or the child closes stdout first.
   std::optional<std::string> wait_for_line(const std::vector<std::string>& needles,
                                            milliseconds timeout);
+  // Waits until what the child wrote to stderr contains `needle` (for
+  // reports that have no stdout line of their own); false at the timeout or
+  // once the child has closed both pipes without writing it.
+  bool wait_for_stderr(const std::string& needle, milliseconds timeout);
   // Every stdout line read so far.
   const std::vector<std::string>& lines() const { return out_lines_; }
 

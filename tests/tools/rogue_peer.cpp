@@ -158,6 +158,33 @@ void RoguePeer::set_state(core::InteractionState state) {
   impl_->publish();
 }
 
+void RoguePeer::set_raw_state(std::int32_t raw) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->sample.state(static_cast<idl::interaction_state::Value>(raw));
+  }
+  impl_->publish();
+}
+
+void RoguePeer::set_raw_service(std::int32_t raw) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->sample.service(static_cast<idl::services::Service>(raw));
+}
+
+void RoguePeer::set_service(core::Service service) {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->sample.service(dds::detail::topics::to_idl(service));
+}
+
+void RoguePeer::set_next_sequence(std::uint64_t next, core::InteractionState state) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->sample.sequence_number(next - 1);  // publish() counts one up
+    impl_->sample.state(dds::detail::topics::to_idl(state));
+  }
+  impl_->publish();
+}
+
 bool RoguePeer::wait_counterpart(core::InteractionState state, std::chrono::milliseconds timeout) {
   auto& i = *impl_;
   std::unique_lock<std::mutex> lock(i.seen_mutex);

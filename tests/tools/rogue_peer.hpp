@@ -9,6 +9,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -27,6 +28,15 @@ class RoguePeer {
 
   // Publishes a new value now (a change: sequence number bumped).
   void set_state(core::InteractionState state);
+  // What no conforming writer sends (hostile-peer tests). set_raw_state
+  // publishes a state number as given, inside the vocabulary or not;
+  // set_next_sequence publishes `state` as change number `next` (a counter
+  // that leaps or goes back). set_raw_service / set_service only set the
+  // service number of the samples that follow.
+  void set_raw_state(std::int32_t raw);
+  void set_next_sequence(std::uint64_t next, core::InteractionState state);
+  void set_raw_service(std::int32_t raw);
+  void set_service(core::Service service);
   // Waits until the counterpart's item of the same service changes to
   // `state` (after the change matched by the previous wait).
   bool wait_counterpart(core::InteractionState state, std::chrono::milliseconds timeout);

@@ -159,6 +159,11 @@ TEST(CliUsage, InvalidDeviceOrInterfaceIdExits2WithTheRule) {
   r = run_mtc({"respond", "--device", "m", "--interface", "1mh", "--service", "MATERIAL_LOAD"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("must not start with a digit"), std::string::npos) << r.err;
+  // Its data item ids must fit the wire's 64 characters too.
+  r = run_mtc({"respond", "--device", "m", "--interface", std::string(39, 'i'), "--service",
+               "MATERIAL_RETRACT"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("at most 38 leave room for its data item ids"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -107,9 +107,13 @@ void RespondRunner::on_peer_link(const LinkEvent& e) {
     if (&slot == &slots_.front() || slot.busy) {
       slot.trace.note(lost ? "peer_lost" : "peer_restored", e.detail);
     }
-    if (lost) {
-      report(slot, Result::Fail, "requester lost (no heartbeat within the lease)");
-    }
+    if (!lost) continue;
+    // A requester that leaves right after COMPLETE (its process exits) may
+    // never be seen READY again: the handshake's outcome is known and it is
+    // over, or `respond --count` would wait for good.
+    const bool outcome_known = slot.busy && slot.reported;
+    report(slot, Result::Fail, "requester lost (no heartbeat within the lease)");
+    if (outcome_known) close(slot);
   }
 }
 

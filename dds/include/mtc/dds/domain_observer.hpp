@@ -60,6 +60,13 @@ struct DomainObserverCallbacks {
   // docs/security.md). Unset: the report goes to stderr.
   std::function<void(const std::string& device_uuid, const std::string& report)>
       on_ownership_conflict;
+  // A device wrote what the Part 5 vocabulary or the wire contract forbids:
+  // a state outside its item's vocabulary (the value still arrives: print it
+  // as UNAVAILABLE), an interaction sample naming no known service or
+  // sub-type (dropped), change numbers that go back or leap (reported once
+  // per writer, item and rule). Unset: the report goes to stderr.
+  std::function<void(const std::string& device_uuid, const std::string& report)>
+      on_protocol_violation;
 };
 
 struct DomainObserverOptions {

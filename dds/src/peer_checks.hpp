@@ -1,0 +1,62 @@
+// Internal: rules a peer's samples must keep that the IDL types cannot
+// express, checked where a value is received (issue 10, hostile peers).
+//   - a state outside its item's vocabulary (reported here by name; an
+//     interaction machine also fails its service on it, Table 5/6's
+//     protocol violation, and the bridge shows UNAVAILABLE);
+//   - an interaction sample whose service or sub-type is outside the
+//     vocabulary (it names no service, so no machine can take it);
+//   - a change number that goes back for the same writer and item (a
+//     writer's counter only grows; a restarted device is a new writer), or
+//     that leaps ahead by more than any real writer could change between
+//     two deliveries (a counter jumped to the maximum).
+// Each rule is reported once per writer and item, so a peer that floods the
+// topic cannot flood the log as well; the value itself is still handled as
+// the rules below say (check()'s verdict).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include "domain_tap.hpp"
+
+namespace mtc::dds::detail {
+
+class PeerChecks {
+ public:
+  // A change number may skip what KEEP_LAST 1 replaced before delivery, but
+  // not 2^32 changes at once: at a million changes a second that is over an
+  // hour without a single delivery.
+  static constexpr std::uint64_t kLargestPlausibleLeap = std::uint64_t{1} << 32;
+
+  struct Verdict {
+    bool use = true;                    // false: drop the value (no machine can take it)
+    std::optional<std::string> report;  // set the first time a rule is broken
+  };
+
+  // `group`: the local timing group whose reader delivered the sample (each
+  // group's reader sees every sample, and each checks its own copy).
+  Verdict check(std::size_t group, const Handle& writer, const ObservedValue& value);
+  // Drops what is known of a writer that left.
+  void forget_writer(const Handle& writer);
+
+ private:
+  // Change numbers per local group (each group's reader gets its own copy,
+  // at its own pace); reports per writer and item, whichever group saw it.
+  using ItemKey = std::pair<Handle, std::string>;                     // writer, item
+  using GroupItemKey = std::tuple<Handle, std::size_t, std::string>;  // writer, group, item
+  struct Reported {
+    bool state = false;
+    bool vocabulary = false;
+    bool back = false;
+    bool leap = false;
+  };
+  std::map<GroupItemKey, std::uint64_t> newest_;
+  std::map<ItemKey, Reported> reported_;
+};
+
+}  // namespace mtc::dds::detail
