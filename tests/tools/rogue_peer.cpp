@@ -47,11 +47,9 @@ struct RoguePeer::Impl {
   // The heartbeat, announcing the newest change.
   void beat() {
     std::lock_guard<std::mutex> lock(mutex);
-    if (sample.sub_type() == idl::sub_types::REQUEST) {
-      heartbeat->sample().request_changes(sample.sequence_number());
-    } else {
-      heartbeat->sample().response_changes(sample.sequence_number());
-    }
+    heartbeat->announce_interaction(*dds::detail::topics::from_idl(sample.service()),
+                                    *dds::detail::topics::from_idl(sample.sub_type()),
+                                    sample.sequence_number());
     heartbeat->beat();
   }
 
@@ -95,9 +93,7 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
   i.participant.register_type(type);
   const bool request = own_side == core::SubType::Request;
   i.topic = std::make_unique<dds::detail::Topic>(
-      i.participant,
-      request ? dds::detail::topics::kInteractionRequest
-              : dds::detail::topics::kInteractionResponse,
+      i.participant, dds::detail::topics::interaction_topic(own_side, service),
       type.get_type_name(), qos::state_topic(i.timing).topic_qos());
   i.publisher = std::make_unique<dds::detail::Publisher>(
       i.participant, std::vector<std::string>{dds::detail::topics::device_partition(device)});
