@@ -420,10 +420,13 @@ TEST_F(Security, DeviceCannotRespondForAServiceItDoesNotProvide) {
   RawParticipant robot(kDomain, Pki::get().dir("sec-robot"));
   const auto refused = what_of([&] {
     robot.make_writer(SubType::Response, "sec-robot", core::Service::MaterialUnload);
-    // Only reached when the permissions let it through (the red check).
+    // Only reached when the permissions let it through (the red check):
+    // the READY then reaches the cnc, whose requester sees it.
     robot.write_item("sec-robot", core::Service::MaterialUnload, SubType::Response,
                      InteractionState::Ready, 1);
+    cnc_rec.wait([&] { return unload.counterpart_state() != InteractionState::Unavailable; });
   });
+  EXPECT_EQ(unload.counterpart_state(), InteractionState::Unavailable) << cnc_rec.dump();
   EXPECT_NE(refused.find("create_datawriter mtc/InteractionResponse/MATERIAL_UNLOAD"),
             std::string::npos)
       << refused;
@@ -457,8 +460,10 @@ TEST_F(Security, DeviceCannotRespondForAServiceItDoesNotProvide) {
   }));
   {
     std::lock_guard<std::mutex> lock(reports_mutex);
-    ASSERT_EQ(observer_reports.size(), 1u);
-    EXPECT_NE(observer_reports[0].find(named), std::string::npos) << observer_reports[0];
+    EXPECT_EQ(observer_reports.size(), 1u);
+    for (const auto& report : observer_reports) {
+      EXPECT_NE(report.find(named), std::string::npos) << report;
+    }
   }
   EXPECT_EQ(unload.counterpart_state(), InteractionState::Unavailable) << cnc_rec.dump();
   EXPECT_EQ(unload.state(), unload_before);
