@@ -25,6 +25,29 @@ std::vector<std::string> reader_partitions(const EquipmentImpl& impl) {
   return out;
 }
 
+// Interaction readers: the counterparts' side of each of our services,
+// nothing else.
+detail::InteractionTopics interaction_topics_read(const EquipmentImpl& impl) {
+  detail::InteractionTopics read{};
+  for (const auto& s : impl.slots) {
+    read[detail::interaction_index(
+        s->role == core::Role::Requester ? core::SubType::Response : core::SubType::Request,
+        s->service)] = true;
+  }
+  return read;
+}
+
+// The readers of timing group `g`.
+detail::TapConfig tap_config(const EquipmentImpl& impl, std::size_t g) {
+  detail::TapConfig tc;
+  tc.partitions = reader_partitions(impl);
+  tc.timing = impl.groups[g]->timing;
+  tc.interactions = interaction_topics_read(impl);
+  // Announcements are read once, with the equipment's timing.
+  tc.topics[static_cast<std::size_t>(detail::TopicKind::DeviceDescription)] = g == 0;
+  return tc;
+}
+
 template <typename Sample>
 void fill_common(Sample& s, const std::string& device, const std::string& interface_id,
                  std::size_t group, const PublishedItem& item, std::uint64_t seq) {
@@ -123,14 +146,7 @@ void EquipmentImpl::create_entities() {
       *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});
   group_by_timing();
   for (std::size_t g = 0; g < groups.size(); ++g) create_group(g);
-  // Readers: the counterparts' side of each of our services, nothing else.
-  detail::InteractionTopics read{};
-  for (const auto& s : slots) {
-    read[detail::interaction_index(
-        s->role == core::Role::Requester ? core::SubType::Response : core::SubType::Request,
-        s->service)] = true;
-  }
-  peer_groups.set_read(read);
+  peer_groups.set_read(interaction_topics_read(*this));
   description_writer = std::make_unique<Writer<idl::DeviceDescription>>(
       *publisher, topics->get(detail::TopicKind::DeviceDescription),
       qos::device_description_topic(t).writer_qos(), writer_listener);
@@ -166,14 +182,8 @@ void EquipmentImpl::create_entities() {
   // Pairing callbacks run on the executor like every other callback.
   executor.post([this] { bind_configured(); });
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    detail::TapConfig tc;
-    tc.partitions = reader_partitions(*this);
-    tc.timing = groups[g]->timing;
-    tc.interactions = read;
-    // Announcements are read once, with the equipment's timing.
-    tc.topics[static_cast<std::size_t>(detail::TopicKind::DeviceDescription)] = g == 0;
     groups[g]->tap = std::make_unique<detail::DomainTap>(
-        *participant, *topics, tc, [this, g](detail::TapEvent&& event) {
+        *participant, *topics, tap_config(*this, g), [this, g](detail::TapEvent&& event) {
           executor.post([this, g, ev = std::move(event)]() mutable { on_event(g, ev); });
         });
   }
