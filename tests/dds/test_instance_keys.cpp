@@ -143,6 +143,7 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   Subscriber subscriber(participant, {topics::kAllDevicesPartition});
   HandleCounter counter;
   std::vector<std::unique_ptr<Reader>> readers;
+  readers.reserve(interaction_topics.size());
   for (auto& topic : interaction_topics) {
     readers.push_back(
         std::make_unique<Reader>(subscriber, *topic, qos::state_topic().reader_qos(), &counter));
