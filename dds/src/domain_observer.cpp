@@ -67,6 +67,7 @@ struct DomainObserver::Impl {
   // participant lease) must not turn the current one's items UNAVAILABLE.
   std::map<std::string, detail::ParticipantKey> incarnation;
   detail::DeviceOwners owners;  // who speaks for each device (no DDS-Security)
+  std::set<std::pair<Handle, std::size_t>> violations_reported;  // (writer, interaction topic)
 
   mutable std::mutex devices_mutex;
   std::map<std::string, ObservedDevice> devices;
@@ -164,7 +165,7 @@ struct DomainObserver::Impl {
     if (auto report = peer_groups.behind_report(key, h.reception_time_ns, repair)) {
       std::cerr << "mtc::dds::DomainObserver: " << *report << '\n';
     }
-    if (group.in_step()) recovered(key);
+    if (peer_groups.in_step(group)) recovered(key);
     if (callbacks.on_heartbeat) callbacks.on_heartbeat(h);
   }
 
@@ -352,6 +353,13 @@ struct DomainObserver::Impl {
   }
   // The observer requests no DEADLINE; a miss would be a cue, not a verdict.
   void handle(detail::DeadlineMissedEvent&) {}
+  // Reported once per writer and topic (a flood stays one line), never
+  // handed on as a value.
+  void handle(detail::ProtocolViolationEvent& e) {
+    if (!wanted(e.value.device_uuid)) return;
+    if (!violations_reported.insert({e.writer, e.topic}).second) return;
+    protocol_violation(e.value.device_uuid, detail::protocol_violation(e));
+  }
   static void handle(detail::IncompatibleQosEvent& e) {
     std::cerr << "mtc::dds::DomainObserver: a writer on " << detail::topic_name(e.topic)
               << " offers QoS incompatible with the observer (policy id " << e.policy

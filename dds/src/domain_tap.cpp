@@ -79,6 +79,12 @@ ObservedHeartbeat observe(const idl::Heartbeat& h) {
   o.interface_state_changes = h.interface_state_changes();
   o.door_state_changes = h.door_state_changes();
   o.chuck_state_changes = h.chuck_state_changes();
+  for (const auto& c : h.interaction_changes()) {
+    const auto service = topics::from_idl(c.service());
+    const auto side = topics::from_idl(c.sub_type());
+    // An entry outside the vocabulary names no topic this runtime reads.
+    if (service && side) o.interaction_changes.push_back({*service, *side, c.changes()});
+  }
   o.source_time_ns = h.source_time_ns();
   o.reception_time_ns = topics::realtime_ns();
   return o;
@@ -91,11 +97,14 @@ struct Counters {
 };
 
 // One listener per reader: copies samples and statuses into TapEvents.
+// An interaction topic's listener knows its topic (`interaction`, an
+// interaction_index): a sample of another service or side is a violation.
 template <typename Sample>
 class TapListener final : public fdds::DataReaderListener {
  public:
-  TapListener(TopicKind kind, const TapSink& sink, Counters& counters)
-      : kind_(kind), sink_(sink), counters_(counters) {}
+  TapListener(TopicKind kind, const TapSink& sink, Counters& counters,
+              std::size_t interaction = kInteractionTopicCount)
+      : kind_(kind), interaction_(interaction), sink_(sink), counters_(counters) {}
 
   void on_data_available(fdds::DataReader* reader) override {
     Sample sample;
@@ -142,13 +151,27 @@ class TapListener final : public fdds::DataReaderListener {
       sink_(HeartbeatEvent{to_handle(info.publication_handle), to_handle(info.instance_handle),
                            observe(s)});
     } else {
+      auto value = observe(s);
+      if constexpr (std::is_same_v<Sample, idl::InteractionSample>) {
+        // A service or sub-type outside the vocabulary is the runtime's
+        // peer checks' to report (detail::PeerChecks).
+        const bool on_its_topic =
+            !value.service || !value.sub_type ||
+            interaction_index(*value.sub_type, *value.service) == interaction_;
+        if (!on_its_topic) {
+          sink_(ProtocolViolationEvent{interaction_, to_handle(info.publication_handle),
+                                       std::move(value)});
+          return;
+        }
+      }
       counters_.values.fetch_add(1, std::memory_order_relaxed);
       sink_(ValueEvent{kind_, to_handle(info.publication_handle), to_handle(info.instance_handle),
-                       observe(s)});
+                       std::move(value)});
     }
   }
 
   TopicKind kind_;
+  std::size_t interaction_;
   const TapSink& sink_;
   Counters& counters_;
 };
@@ -201,9 +224,9 @@ ObservedDevice to_observed(const idl::DeviceDescription& d) {
 const char* topic_name(TopicKind kind) noexcept {
   switch (kind) {
     case TopicKind::Request:
-      return topics::kInteractionRequest;
+      return "mtc/InteractionRequest/*";
     case TopicKind::Response:
-      return topics::kInteractionResponse;
+      return "mtc/InteractionResponse/*";
     case TopicKind::InterfaceState:
       return topics::kInterfaceState;
     case TopicKind::DoorState:
@@ -218,6 +241,22 @@ const char* topic_name(TopicKind kind) noexcept {
   return "";
 }
 
+std::string interaction_topic_name(std::size_t index) {
+  return topics::interaction_topic(interaction_side(index) == TopicKind::Request
+                                       ? core::SubType::Request
+                                       : core::SubType::Response,
+                                   interaction_service(index));
+}
+
+std::string protocol_violation(const ProtocolViolationEvent& e) {
+  const auto& v = e.value;
+  const std::string service = v.service ? std::string(core::to_string(*v.service)) : "?";
+  const std::string side = v.sub_type ? std::string(core::to_string(*v.sub_type)) : "?";
+  return "protocol violation: device " + v.device_uuid + " wrote " + v.data_item_id + " (" +
+         service + " " + side + ") on topic " + interaction_topic_name(e.topic) +
+         ", which carries only that topic's service and side; sample ignored";
+}
+
 namespace {
 
 // Registers an IDL type (once per participant) and returns its name.
@@ -227,15 +266,15 @@ std::string registered(Participant& participant) {
   return type_name<PubSub>();
 }
 
-// Registers the IDL type of a topic and creates it.
+// Registers the IDL type of a topic and creates it (not the interaction
+// topics: TopicSet::interaction).
 std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
                                   const qos::Timing& timing) {
   std::string type;
   switch (kind) {
     case TopicKind::Request:
     case TopicKind::Response:
-      type = registered<idl::InteractionSamplePubSubType>(participant);
-      break;
+      throw ConfigError(std::string("TopicSet: ") + topic_name(kind) + " is one topic per service");
     case TopicKind::InterfaceState:
       type = registered<idl::InterfaceStateSamplePubSubType>(participant);
       break;
@@ -268,12 +307,25 @@ Topic& TopicSet::get(TopicKind kind) {
   return *slot;
 }
 
+Topic& TopicSet::interaction(std::size_t index) {
+  auto& slot = interactions_.at(index);
+  if (!slot) {
+    slot = std::make_unique<Topic>(participant_, interaction_topic_name(index),
+                                   registered<idl::InteractionSamplePubSubType>(participant_),
+                                   qos::state_topic(timing_).topic_qos());
+  }
+  return *slot;
+}
+
 struct DomainTap::Impl {
   TapSink sink;
   Counters counters;
   std::array<std::unique_ptr<fdds::DataReaderListener>, kTopicKindCount> listeners;
+  std::array<std::unique_ptr<fdds::DataReaderListener>, kInteractionTopicCount>
+      interaction_listeners;
   std::unique_ptr<Subscriber> subscriber;
   std::array<std::unique_ptr<Reader>, kTopicKindCount> readers;
+  std::array<std::unique_ptr<Reader>, kInteractionTopicCount> interaction_readers;
 };
 
 namespace {
@@ -283,7 +335,7 @@ std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const Ta
   switch (kind) {
     case TopicKind::Request:
     case TopicKind::Response:
-      return std::make_unique<TapListener<idl::InteractionSample>>(kind, sink, counters);
+      return nullptr;  // one per service: see DomainTap::DomainTap
     case TopicKind::InterfaceState:
       return std::make_unique<TapListener<idl::InterfaceStateSample>>(kind, sink, counters);
     case TopicKind::DoorState:
@@ -319,13 +371,22 @@ DomainTap::DomainTap(Participant& participant, TopicSet& topics, const TapConfig
   impl_->sink = std::move(sink);
   impl_->subscriber = std::make_unique<Subscriber>(participant, config.partitions);
   for (std::size_t i = 0; i < kTopicKindCount; ++i) {
-    if (!config.topics[i]) {
+    const auto kind = static_cast<TopicKind>(i);
+    if (!config.topics[i] || kind == TopicKind::Request || kind == TopicKind::Response) {
       continue;
     }
-    const auto kind = static_cast<TopicKind>(i);
     impl_->listeners[i] = make_listener(kind, impl_->sink, impl_->counters);
     impl_->readers[i] = std::make_unique<Reader>(
         *impl_->subscriber, topics.get(kind), reader_qos(kind, config), impl_->listeners[i].get());
+  }
+  for (std::size_t i = 0; i < kInteractionTopicCount; ++i) {
+    const auto side = interaction_side(i);
+    if (!config.topics[static_cast<std::size_t>(side)] || !config.interactions[i]) continue;
+    impl_->interaction_listeners[i] = std::make_unique<TapListener<idl::InteractionSample>>(
+        side, impl_->sink, impl_->counters, i);
+    impl_->interaction_readers[i] =
+        std::make_unique<Reader>(*impl_->subscriber, topics.interaction(i),
+                                 reader_qos(side, config), impl_->interaction_listeners[i].get());
   }
 }
 
@@ -337,6 +398,9 @@ TapCounts DomainTap::counts() const noexcept {
 DomainTap::~DomainTap() {
   // Readers first (they reference listeners and topics), then the rest.
   for (auto& r : impl_->readers) {
+    r.reset();
+  }
+  for (auto& r : impl_->interaction_readers) {
     r.reset();
   }
   impl_->subscriber.reset();

@@ -13,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "mtc/core/vocabulary.hpp"
 #include "mtc/dds/detail/entities.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
@@ -40,8 +41,36 @@ constexpr bool is_state_topic(TopicKind kind) noexcept {
   return static_cast<std::size_t>(kind) < kStateTopicCount;
 }
 
-// Newest change number per state topic (indexed by TopicKind).
+// Newest change number per state topic (indexed by TopicKind; the Request
+// and Response entries are not used: see InteractionChanges).
 using StateChanges = std::array<std::uint64_t, kStateTopicCount>;
+
+// Interaction items have one topic per side (TopicKind::Request or
+// Response) and service (topics::interaction_topic), indexed thus.
+inline constexpr std::size_t kServiceCount = core::kAllServices.size();
+inline constexpr std::size_t kInteractionTopicCount = 2 * kServiceCount;
+constexpr std::size_t interaction_index(TopicKind side, core::Service service) noexcept {
+  return (side == TopicKind::Request ? 0 : kServiceCount) + static_cast<std::size_t>(service);
+}
+constexpr std::size_t interaction_index(core::SubType side, core::Service service) noexcept {
+  return interaction_index(
+      side == core::SubType::Request ? TopicKind::Request : TopicKind::Response, service);
+}
+constexpr TopicKind interaction_side(std::size_t index) noexcept {
+  return index < kServiceCount ? TopicKind::Request : TopicKind::Response;
+}
+constexpr core::Service interaction_service(std::size_t index) noexcept {
+  return core::kAllServices[index % kServiceCount];
+}
+// A set of interaction topics (which are read), and the newest change
+// number per interaction topic.
+using InteractionTopics = std::array<bool, kInteractionTopicCount>;
+using InteractionChanges = std::array<std::uint64_t, kInteractionTopicCount>;
+constexpr InteractionTopics all_interaction_topics() noexcept {
+  InteractionTopics all{};
+  for (auto& t : all) t = true;
+  return all;
+}
 
 // The participant part (GUID prefix) of a writer's handle: which process
 // incarnation wrote a sample. A restarted device has a new one.
@@ -83,9 +112,17 @@ struct IncompatibleQosEvent {
   TopicKind topic;
   std::string policy;
 };
+// An interaction sample whose service or sub_type disagrees with the topic
+// it came on (a protocol violation: never handed on as a value).
+struct ProtocolViolationEvent {
+  std::size_t topic = 0;  // interaction_index of the topic
+  Handle writer{};
+  ObservedValue value;
+};
 
-using TapEvent = std::variant<ValueEvent, HeartbeatEvent, DeviceEvent, InstanceGoneEvent,
-                              WriterLivelinessEvent, DeadlineMissedEvent, IncompatibleQosEvent>;
+using TapEvent =
+    std::variant<ValueEvent, HeartbeatEvent, DeviceEvent, InstanceGoneEvent, WriterLivelinessEvent,
+                 DeadlineMissedEvent, IncompatibleQosEvent, ProtocolViolationEvent>;
 using TapSink = std::function<void(TapEvent&&)>;
 
 struct TapConfig {
@@ -97,8 +134,10 @@ struct TapConfig {
   // match). State topics and announcements are read with the state and
   // device_description presets either way.
   bool observer = false;
-  // Which topics to read (indexed by TopicKind).
+  // Which topics to read (indexed by TopicKind); of the interaction topics
+  // (Request, Response), those in `interactions` only.
   std::array<bool, kTopicKindCount> topics{true, true, true, true, true, true, true};
+  InteractionTopics interactions = all_interaction_topics();
 };
 
 // The topics of one participant, created on first use (a participant may
@@ -107,12 +146,17 @@ class TopicSet {
  public:
   TopicSet(Participant& participant, const qos::Timing& timing)
       : participant_(participant), timing_(timing) {}
+  // A topic other than the interaction ones (ConfigError for Request or
+  // Response: those are per service).
   Topic& get(TopicKind kind);
+  // The interaction topic of interaction_index `index`.
+  Topic& interaction(std::size_t index);
 
  private:
   Participant& participant_;
   qos::Timing timing_;
   std::array<std::unique_ptr<Topic>, kTopicKindCount> topics_;
+  std::array<std::unique_ptr<Topic>, kInteractionTopicCount> interactions_;
 };
 
 // Samples the readers of a tap have taken (valid data only), for the
@@ -136,7 +180,13 @@ class DomainTap {
   std::unique_ptr<Impl> impl_;
 };
 
+// The topic's name; for Request and Response, the pattern of the service
+// topics ("mtc/InteractionRequest/*").
 const char* topic_name(TopicKind kind) noexcept;
+// topics::interaction_topic of an interaction_index.
+std::string interaction_topic_name(std::size_t index);
+// "device D wrote <item> (<SERVICE> <SIDE>) on <topic>: ...", for the owner's report.
+std::string protocol_violation(const ProtocolViolationEvent& e);
 
 // The one rule that turns silence into a loss: a counterpart is lost once
 // nothing was heard from it (last_heard_ns, CLOCK_REALTIME; 0 = never) for a

@@ -236,10 +236,11 @@ std::size_t EquipmentImpl::add_slot(const std::string& interface_id, core::Servi
                                interfaces.begin());
   slot->service = service;
   slot->role = role;
+  const auto side =
+      role == core::Role::Requester ? core::SubType::Request : core::SubType::Response;
+  slot->topic = detail::interaction_index(side, service);
   slot->options = opts;
-  slot->item.id = topics::interaction_item_id(
-      interface_id, service,
-      role == core::Role::Requester ? core::SubType::Request : core::SubType::Response);
+  slot->item.id = topics::interaction_item_id(interface_id, service, side);
   const auto index = slots.size();
   itf.services.push_back(index);
   slots.push_back(std::move(slot));

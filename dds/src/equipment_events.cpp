@@ -35,6 +35,11 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
           }
         } else if constexpr (std::is_same_v<T, detail::DeadlineMissedEvent>) {
           on_deadline_missed(group);
+        } else if constexpr (std::is_same_v<T, detail::ProtocolViolationEvent>) {
+          // Never a transition; one report per writer and topic.
+          if (violations_reported.insert({e.writer, e.topic}).second) {
+            diagnostic(detail::protocol_violation(e));
+          }
         } else {
           // Once per topic and group: with several timings, a fast group's
           // readers never match a slow group's writers, by design.
@@ -255,7 +260,7 @@ void EquipmentImpl::on_heartbeat(std::size_t group, detail::HeartbeatEvent& e) {
   for (auto& itf : interfaces) {
     if (itf->group != group || !itf->cp_group || !(*itf->cp_group == key)) continue;
     itf->last_heard_ns = std::max(itf->last_heard_ns, h.reception_time_ns);
-    if (!pg.in_step()) continue;
+    if (!peer_groups.in_step(pg)) continue;
     // A counterpart that declared its interface UNAVAILABLE stays lost
     // however well it heartbeats.
     const auto state = itf->cp_values.find(topics::interface_state_item_id(itf->cp_interface));

@@ -27,20 +27,20 @@ constexpr std::uint64_t kMinSpan = 256;
 
 }  // namespace
 
-// Calls fn(item, rewrite) for every item the writer of (group, topic) owns;
+// Calls fn(item, rewrite) for every item the writer of (group, topic) owns
+// (of an interaction topic: the writer of that service and side);
 // rewrite() writes the item again, unchanged.
 template <typename Fn>
-void EquipmentImpl::for_each_item(std::size_t group, TopicKind topic, Fn&& fn) {
+void EquipmentImpl::for_each_item(std::size_t group, TopicKind topic, std::size_t interaction,
+                                  Fn&& fn) {
   for (auto& itf : interfaces) {
     if (itf->group != group) continue;
     switch (topic) {
       case TopicKind::Request:
       case TopicKind::Response: {
-        const auto role =
-            topic == TopicKind::Request ? core::Role::Requester : core::Role::Responder;
         for (auto index : itf->services) {
           auto& slot = *slots[index];
-          if (slot.role != role) continue;
+          if (slot.topic != interaction) continue;
           fn(slot.item, [&] { publish_interaction(slot, slot.item.changed_ns); });
         }
         break;
@@ -63,12 +63,12 @@ void EquipmentImpl::for_each_item(std::size_t group, TopicKind topic, Fn&& fn) {
   }
 }
 
-void EquipmentImpl::bound_history(std::size_t group, TopicKind topic) {
+void EquipmentImpl::bound_history(std::size_t group, TopicKind topic, std::size_t interaction) {
   if (bounding_history) return;  // the rewrites below come back here
   std::uint64_t oldest = std::numeric_limits<std::uint64_t>::max();
   std::uint64_t newest = 0;
   std::uint64_t items = 0;
-  for_each_item(group, topic, [&](const PublishedItem& item, auto&&) {
+  for_each_item(group, topic, interaction, [&](const PublishedItem& item, auto&&) {
     oldest = std::min(oldest, item.seq);
     newest = std::max(newest, item.seq);
     ++items;
@@ -83,7 +83,7 @@ void EquipmentImpl::bound_history(std::size_t group, TopicKind topic) {
     ~Guard() { flag = false; }
   } guard{bounding_history};
   const std::uint64_t keep_from = newest - limit / 2;
-  for_each_item(group, topic, [&](const PublishedItem& item, auto&& rewrite) {
+  for_each_item(group, topic, interaction, [&](const PublishedItem& item, auto&& rewrite) {
     if (item.seq < keep_from) rewrite();
   });
 }

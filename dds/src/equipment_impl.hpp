@@ -56,6 +56,7 @@ struct ServiceSlot {
   std::size_t interface_index = 0;
   core::Service service = core::Service::MaterialLoad;
   core::Role role = core::Role::Requester;
+  std::size_t topic = 0;  // detail::interaction_index of the topic it writes
   ServiceOptions options;
   ResponderCallbacks responder_callbacks;
   std::unique_ptr<ServiceHandle> handle;
@@ -87,6 +88,13 @@ struct DoorChuckWriter {
   std::uint64_t seq = 0;
 };
 
+// The writer of one interaction topic (service and side) and its change
+// counter: the sequence_number of its samples, announced by the heartbeat.
+struct InteractionWriter {
+  std::unique_ptr<Writer<idl::InteractionSample>> writer;
+  std::uint64_t seq = 0;
+};
+
 // Writers, readers and heartbeat of the interfaces sharing one timing
 // (DEADLINE and liveliness are heartbeat writer/reader QoS, so interfaces
 // with their own heartbeat get their own endpoints). Group 0 is the
@@ -94,17 +102,17 @@ struct DoorChuckWriter {
 // `heartbeat_group` of its state samples.
 struct TimingGroup {
   qos::Timing timing;
-  std::unique_ptr<Writer<idl::InteractionSample>> request_writer;
-  std::unique_ptr<Writer<idl::InteractionSample>> response_writer;
+  // Indexed by detail::interaction_index; only those its interfaces use.
+  std::array<InteractionWriter, detail::kInteractionTopicCount> interaction;
   std::unique_ptr<Writer<idl::InterfaceStateSample>> interface_writer;
   std::tuple<DoorChuckWriter<core::DoorState>, DoorChuckWriter<core::ChuckState>> door_chuck;
   std::unique_ptr<Writer<idl::Heartbeat>> heartbeat_writer;
-  std::uint64_t request_seq = 0;
-  std::uint64_t response_seq = 0;
   std::uint64_t interface_seq = 0;
-  // Change numbers already written, per state topic: what the heartbeat
-  // announces (written on the executor, read by the heartbeat thread).
+  // Change numbers already written, per state topic and per interaction
+  // topic: what the heartbeat announces (written on the executor, read by
+  // the heartbeat thread).
   std::array<std::atomic<std::uint64_t>, detail::kStateTopicCount> written{};
+  std::array<std::atomic<std::uint64_t>, detail::kInteractionTopicCount> interaction_written{};
   std::uint64_t beats = 0;  // heartbeat thread only
   std::unique_ptr<detail::DomainTap> tap;
   std::array<bool, detail::kTopicKindCount> incompatible_reported{};
@@ -168,6 +176,8 @@ struct EquipmentImpl {
   std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
   detail::PeerGroups peer_groups;
   detail::PeerChecks peer_checks;  // what a peer writes that the types cannot forbid
+  // Protocol violations already reported: (writer, interaction topic).
+  std::set<std::pair<detail::Handle, std::size_t>> violations_reported;
   // The last value of every item of every device our readers saw, paired or
   // not: an interface that pairs later starts from what is already known
   // (items are written on change only; nothing else would bring them).
@@ -218,10 +228,14 @@ struct EquipmentImpl {
   void publish_doors_and_chucks(InterfaceSlot& itf, std::int64_t now_ns);
   void publish_description();
   void wrote(TimingGroup& g, detail::TopicKind topic, std::uint64_t seq);
+  void wrote_interaction(TimingGroup& g, std::size_t topic, std::uint64_t seq);
   // --- history span (equipment_history.cpp) ---
-  void bound_history(std::size_t group, detail::TopicKind topic);
+  // One writer's history: (group, topic), and for the interaction topics
+  // (Request, Response) its interaction_index.
+  void bound_history(std::size_t group, detail::TopicKind topic,
+                     std::size_t interaction = detail::kInteractionTopicCount);
   template <typename Fn>
-  void for_each_item(std::size_t group, detail::TopicKind topic, Fn&& fn);
+  void for_each_item(std::size_t group, detail::TopicKind topic, std::size_t interaction, Fn&& fn);
   bool bounding_history = false;
   // Heartbeat thread: one heartbeat of group `index`.
   void write_heartbeat(std::size_t index);

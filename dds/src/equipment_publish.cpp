@@ -25,6 +25,29 @@ std::vector<std::string> reader_partitions(const EquipmentImpl& impl) {
   return out;
 }
 
+// Interaction readers: the counterparts' side of each of our services,
+// nothing else.
+detail::InteractionTopics interaction_topics_read(const EquipmentImpl& impl) {
+  detail::InteractionTopics read{};
+  for (const auto& s : impl.slots) {
+    read[detail::interaction_index(
+        s->role == core::Role::Requester ? core::SubType::Response : core::SubType::Request,
+        s->service)] = true;
+  }
+  return read;
+}
+
+// The readers of timing group `g`.
+detail::TapConfig tap_config(const EquipmentImpl& impl, std::size_t g) {
+  detail::TapConfig tc;
+  tc.partitions = reader_partitions(impl);
+  tc.timing = impl.groups[g]->timing;
+  tc.interactions = interaction_topics_read(impl);
+  // Announcements are read once, with the equipment's timing.
+  tc.topics[static_cast<std::size_t>(detail::TopicKind::DeviceDescription)] = g == 0;
+  return tc;
+}
+
 template <typename Sample>
 void fill_common(Sample& s, const std::string& device, const std::string& interface_id,
                  std::size_t group, const PublishedItem& item, std::uint64_t seq) {
@@ -57,27 +80,20 @@ bool same_timing(const qos::Timing& a, const qos::Timing& b) {
 
 }  // namespace
 
-// Writers of one timing group: only those its interfaces need, so that a
-// device that only requests holds no permission-relevant response writer.
+// Writers of one timing group: only those its interfaces need, one per
+// service and side, so that the permissions a device needs are exactly the
+// services it requests and provides (however many interfaces use them).
 void EquipmentImpl::create_group(std::size_t index) {
   auto& g = *groups[index];
   const auto wq = qos::state_topic(g.timing).writer_qos();
-  bool request = false;
-  bool response = false;
   for (const auto& itf : interfaces) {
     if (itf->group != index) continue;
     for (auto i : itf->services) {
-      request = request || slots[i]->role == core::Role::Requester;
-      response = response || slots[i]->role == core::Role::Responder;
+      auto& w = g.interaction[slots[i]->topic];
+      if (w.writer) continue;
+      w.writer = std::make_unique<Writer<idl::InteractionSample>>(
+          *publisher, topics->interaction(slots[i]->topic), wq, writer_listener);
     }
-  }
-  if (request) {
-    g.request_writer = std::make_unique<Writer<idl::InteractionSample>>(
-        *publisher, topics->get(TopicKind::Request), wq, writer_listener);
-  }
-  if (response) {
-    g.response_writer = std::make_unique<Writer<idl::InteractionSample>>(
-        *publisher, topics->get(TopicKind::Response), wq, writer_listener);
   }
   g.heartbeat_writer = std::make_unique<Writer<idl::Heartbeat>>(
       *publisher, topics->get(TopicKind::Heartbeat), qos::heartbeat_topic(g.timing).writer_qos(),
@@ -130,6 +146,7 @@ void EquipmentImpl::create_entities() {
       *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});
   group_by_timing();
   for (std::size_t g = 0; g < groups.size(); ++g) create_group(g);
+  peer_groups.set_read(interaction_topics_read(*this));
   description_writer = std::make_unique<Writer<idl::DeviceDescription>>(
       *publisher, topics->get(detail::TopicKind::DeviceDescription),
       qos::device_description_topic(t).writer_qos(), writer_listener);
@@ -165,13 +182,8 @@ void EquipmentImpl::create_entities() {
   // Pairing callbacks run on the executor like every other callback.
   executor.post([this] { bind_configured(); });
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    detail::TapConfig tc;
-    tc.partitions = reader_partitions(*this);
-    tc.timing = groups[g]->timing;
-    // Announcements are read once, with the equipment's timing.
-    tc.topics[static_cast<std::size_t>(detail::TopicKind::DeviceDescription)] = g == 0;
     groups[g]->tap = std::make_unique<detail::DomainTap>(
-        *participant, *topics, tc, [this, g](detail::TapEvent&& event) {
+        *participant, *topics, tap_config(*this, g), [this, g](detail::TapEvent&& event) {
           executor.post([this, g, ev = std::move(event)]() mutable { on_event(g, ev); });
         });
   }
@@ -202,8 +214,21 @@ void EquipmentImpl::write_heartbeat(std::size_t index) {
   h.period_ms(to_ms(g.timing.heartbeat));
   h.lease_ms(to_ms(g.timing.lease()));
   h.beat(++g.beats);
-  h.request_changes(changes(TopicKind::Request));
-  h.response_changes(changes(TopicKind::Response));
+  std::uint64_t request_changes = 0;
+  std::uint64_t response_changes = 0;
+  for (std::size_t i = 0; i < detail::kInteractionTopicCount; ++i) {
+    if (!g.interaction[i].writer) continue;  // made before the heartbeats start
+    const auto written = g.interaction_written[i].load(std::memory_order_acquire);
+    const bool request = detail::interaction_side(i) == TopicKind::Request;
+    idl::InteractionChanges c;
+    c.service(topics::to_idl(detail::interaction_service(i)));
+    c.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
+    c.changes(written);
+    h.interaction_changes().push_back(c);
+    (request ? request_changes : response_changes) += written;
+  }
+  h.request_changes(request_changes);
+  h.response_changes(response_changes);
   h.interface_state_changes(changes(TopicKind::InterfaceState));
   h.door_state_changes(changes(TopicKind::DoorState));
   h.chuck_state_changes(changes(TopicKind::ChuckState));
@@ -215,6 +240,11 @@ void EquipmentImpl::write_heartbeat(std::size_t index) {
 // After the write: a heartbeat announces only changes already written.
 void EquipmentImpl::wrote(TimingGroup& g, TopicKind topic, std::uint64_t seq) {
   g.written[static_cast<std::size_t>(topic)].store(seq, std::memory_order_release);
+  values_written.fetch_add(1, std::memory_order_relaxed);
+}
+
+void EquipmentImpl::wrote_interaction(TimingGroup& g, std::size_t topic, std::uint64_t seq) {
+  g.interaction_written[topic].store(seq, std::memory_order_release);
   values_written.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -237,17 +267,16 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
   const bool request = slot.role == core::Role::Requester;
   auto& itf = *interfaces[slot.interface_index];
   auto& g = group_of(itf);
-  auto& writer = request ? g.request_writer : g.response_writer;
-  auto& seq = request ? g.request_seq : g.response_seq;
-  touch(slot.item, seq, now_ns);
+  auto& w = g.interaction[slot.topic];
+  touch(slot.item, w.seq, now_ns);
   idl::InteractionSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.group, slot.item, seq);
+  fill_common(s, options.device_uuid, itf.config.id, itf.group, slot.item, w.seq);
   s.service(topics::to_idl(slot.service));
   s.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
   s.state(topics::to_idl(itf.model->machine(slot.service, slot.role)->state()));
-  writer->write(s);
-  wrote(g, request ? TopicKind::Request : TopicKind::Response, seq);
-  bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response);
+  w.writer->write(s);
+  wrote_interaction(g, slot.topic, w.seq);
+  bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response, slot.topic);
 }
 
 void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, std::int64_t now_ns) {
@@ -344,11 +373,9 @@ void EquipmentImpl::dispose_all() noexcept {
   for (auto& itf : interfaces) {
     for (auto index : itf->services) {
       auto& slot = *slots[index];
-      const bool request = slot.role == core::Role::Requester;
       idl::InteractionSample s;
       fill_common(s, options.device_uuid, itf->config.id, itf->group, slot.item, 0);
-      auto& g = group_of(*itf);
-      attempt([&] { (request ? g.request_writer : g.response_writer)->dispose(s); });
+      attempt([&] { group_of(*itf).interaction[slot.topic].writer->dispose(s); });
     }
     idl::InterfaceStateSample s;
     fill_common(s, options.device_uuid, itf->config.id, itf->group, itf->state_item, 0);

@@ -16,11 +16,28 @@ StateChanges announced_by(const ObservedHeartbeat& h) {
   return out;
 }
 
+InteractionChanges interactions_announced_by(const ObservedHeartbeat& h) {
+  InteractionChanges out{};
+  for (const auto& c : h.interaction_changes) {
+    out[interaction_index(c.sub_type, c.service)] = c.changes;
+  }
+  return out;
+}
+
+// The interaction totals (Request, Response) are followed per topic instead.
+bool counted_per_topic(std::size_t state_topic) {
+  return state_topic == static_cast<std::size_t>(TopicKind::Request) ||
+         state_topic == static_cast<std::size_t>(TopicKind::Response);
+}
+
 }  // namespace
 
-bool PeerGroup::in_step() const noexcept {
+bool PeerGroup::in_step(const InteractionTopics& read) const noexcept {
   for (std::size_t i = 0; i < kStateTopicCount; ++i) {
-    if (received[i] < announced[i]) return false;
+    if (!counted_per_topic(i) && received[i] < announced[i]) return false;
+  }
+  for (std::size_t i = 0; i < kInteractionTopicCount; ++i) {
+    if (read[i] && received_interactions[i] < announced_interactions[i]) return false;
   }
   return true;
 }
@@ -29,8 +46,13 @@ PeerGroupKey PeerGroups::on_value(const Handle& writer, TopicKind topic,
                                   const ObservedValue& value) {
   auto key = key_of(writer, value.device_uuid, value.heartbeat_group);
   if (is_state_topic(topic)) {
-    auto& newest = groups_[key].received[static_cast<std::size_t>(topic)];
+    auto& group = groups_[key];
+    auto& newest = group.received[static_cast<std::size_t>(topic)];
     newest = std::max(newest, value.sequence_number);
+    if ((topic == TopicKind::Request || topic == TopicKind::Response) && value.service) {
+      auto& per_topic = group.received_interactions[interaction_index(topic, *value.service)];
+      per_topic = std::max(per_topic, value.sequence_number);
+    }
   }
   return key;
 }
@@ -42,6 +64,7 @@ PeerGroup& PeerGroups::on_heartbeat(const Handle& writer, const ObservedHeartbea
   g.last_heartbeat_ns = heartbeat.reception_time_ns;
   g.newest = heartbeat;
   g.announced = announced_by(heartbeat);
+  g.announced_interactions = interactions_announced_by(heartbeat);
   return g;
 }
 
@@ -50,7 +73,7 @@ std::optional<std::string> PeerGroups::behind_report(const PeerGroupKey& key, st
   const auto it = groups_.find(key);
   if (it == groups_.end()) return std::nullopt;
   auto& g = it->second;
-  if (g.in_step()) {
+  if (g.in_step(read_)) {
     g.behind_since_ns = 0;
     g.behind_reported = false;
     return std::nullopt;
@@ -59,11 +82,18 @@ std::optional<std::string> PeerGroups::behind_report(const PeerGroupKey& key, st
   if (g.behind_reported || now_ns - g.behind_since_ns <= repair_ns) return std::nullopt;
   g.behind_reported = true;
   std::string missing;
+  const auto note = [&missing](const std::string& topic, std::uint64_t announced,
+                               std::uint64_t received) {
+    missing += std::string(missing.empty() ? "" : ", ") + topic + " change " +
+               std::to_string(announced) + " (received up to " + std::to_string(received) + ")";
+  };
   for (std::size_t i = 0; i < kStateTopicCount; ++i) {
-    if (g.received[i] >= g.announced[i]) continue;
-    missing += std::string(missing.empty() ? "" : ", ") + topic_name(static_cast<TopicKind>(i)) +
-               " change " + std::to_string(g.announced[i]) + " (received up to " +
-               std::to_string(g.received[i]) + ")";
+    if (counted_per_topic(i) || g.received[i] >= g.announced[i]) continue;
+    note(topic_name(static_cast<TopicKind>(i)), g.announced[i], g.received[i]);
+  }
+  for (std::size_t i = 0; i < kInteractionTopicCount; ++i) {
+    if (!read_[i] || g.received_interactions[i] >= g.announced_interactions[i]) continue;
+    note(interaction_topic_name(i), g.announced_interactions[i], g.received_interactions[i]);
   }
   return "device " + key.device + " heartbeat group " + std::to_string(key.group) +
          " announced changes not received for " +

@@ -1,10 +1,14 @@
 // Internal: the timing groups of other devices as their heartbeats and state
-// samples describe them. A heartbeat announces, per state topic, the newest
-// change the group's writer has written; the values received from those
+// samples describe them. A heartbeat announces, per state topic (per
+// interaction topic: service and side), the newest change the group's writer
+// of it has written; the values received from those
 // writers say how far this reader has got. When they agree the reader is in
 // step: the last value it holds of each item is the device's current one,
 // which is what lets Equipment and DomainObserver hand last known values over
 // again after a loss instead of waiting for a change that may never come.
+// Only the interaction topics this side reads count: an equipment reads the
+// services of its own interfaces, while a counterpart's group may write
+// others too.
 //
 // Keyed by the writing participant as well: a restarted device (same uuid,
 // new process) starts its change numbers afresh, and nothing of its previous
@@ -35,20 +39,28 @@ struct PeerGroupKey {
 };
 
 struct PeerGroup {
-  std::int64_t last_heartbeat_ns = 0;  // reception of the newest heartbeat (0: none yet)
-  ObservedHeartbeat newest;            // the newest heartbeat itself
-  StateChanges announced{};            // change numbers it announced
-  StateChanges received{};             // newest change number received, per state topic
-  std::int64_t behind_since_ns = 0;    // announced ahead of received since (0: in step)
+  std::int64_t last_heartbeat_ns = 0;           // reception of the newest heartbeat (0: none yet)
+  ObservedHeartbeat newest;                     // the newest heartbeat itself
+  StateChanges announced{};                     // change numbers it announced
+  StateChanges received{};                      // newest change number received, per state topic
+  InteractionChanges announced_interactions{};  // the same per interaction topic
+  InteractionChanges received_interactions{};
+  std::int64_t behind_since_ns = 0;  // announced ahead of received since (0: in step)
   bool behind_reported = false;
 
   bool heard() const noexcept { return last_heartbeat_ns != 0; }
-  // Every change the newest heartbeat announced has been received.
-  bool in_step() const noexcept;
+  // Every change the newest heartbeat announced has been received, on the
+  // interaction topics in `read`.
+  bool in_step(const InteractionTopics& read) const noexcept;
 };
 
 class PeerGroups {
  public:
+  // `read`: the interaction topics whose changes this side receives.
+  explicit PeerGroups(const InteractionTopics& read = all_interaction_topics()) : read_(read) {}
+  void set_read(const InteractionTopics& read) { read_ = read; }
+  bool in_step(const PeerGroup& group) const noexcept { return group.in_step(read_); }
+
   // A state sample from `writer` on state topic `topic`; returns its group.
   PeerGroupKey on_value(const Handle& writer, TopicKind topic, const ObservedValue& value);
   // A heartbeat; returns its group's record (created on first sight).
@@ -75,6 +87,7 @@ class PeerGroups {
   }
 
  private:
+  InteractionTopics read_;
   std::map<PeerGroupKey, PeerGroup> groups_;
   std::map<Handle, PeerGroupKey> heartbeat_writers_;
 };

@@ -12,6 +12,12 @@ std::string device_partition(std::string_view device_uuid) {
   return std::string(kPartitionPrefix) + std::string(device_uuid);
 }
 
+std::string interaction_topic(core::SubType side, core::Service service) {
+  return std::string(side == core::SubType::Request ? kInteractionRequestPrefix
+                                                    : kInteractionResponsePrefix) +
+         std::string(core::to_string(service));
+}
+
 namespace {
 
 std::optional<std::string> check_token(std::string_view what, std::string_view text,

@@ -19,8 +19,10 @@
 #                 [publishes=door,chuck]
 #   observer <name>        read-only identity (the bridge, `mtc watch`)
 # Services are the Part 5 names in lower case (material_load, open_door, ...).
-# A device may publish REQUEST samples only if it requests a service and
-# RESPONSE samples only if it provides one, always in its own partition
+# Interaction topics are one per service and side (mtc/InteractionRequest/
+# MATERIAL_LOAD, mtc/InteractionResponse/MATERIAL_LOAD, ...): a device may
+# publish the REQUEST topics of the services it requests and the RESPONSE
+# topics of those it provides, nothing else, always in its own partition
 # mtc/dev/<uuid>, plus its announcement, interface, heartbeat (and door /
 # chuck) state there; it reads every topic in the partitions of `reads`
 # (`*`: any device, for counterparts left to discovery). Observers read all.
@@ -60,7 +62,7 @@ command -v openssl >/dev/null || { echo "make-pki.sh: openssl is not installed" 
 
 # ------------------------------------------------------ cell description
 id_re='^[A-Za-z0-9_.:-]{1,64}$'
-services='material_feed material_load material_unload open_door close_door open_chuck close_chuck part_change'
+services='material_feed material_change material_retract part_change material_load material_unload open_door close_door open_chuck close_chuck'
 names=() kinds=() requests=() provides=() reads=() publishes=()
 line_no=0
 bad_cell() { echo "make-pki.sh: $cell:$line_no: $*" >&2; exit 2; }
@@ -192,11 +194,11 @@ partition_list() { local p; for p in "$@"; do printf '          <partition>%s</p
 
 # permissions <index> <not_before> <not_after>: the grant of one identity.
 permissions() {
-  local i="$1" name="${names[$1]}" pub_topics=() sub_partitions=() r
+  local i="$1" name="${names[$1]}" pub_topics=() sub_partitions=() r s
   if [ "${kinds[$i]}" = device ]; then
     pub_topics=(mtc/DeviceDescription mtc/InterfaceState mtc/Heartbeat)
-    [ -n "${requests[$i]}" ] && pub_topics+=(mtc/InteractionRequest)
-    [ -n "${provides[$i]}" ] && pub_topics+=(mtc/InteractionResponse)
+    for s in ${requests[$i]//,/ }; do pub_topics+=("mtc/InteractionRequest/${s^^}"); done
+    for s in ${provides[$i]//,/ }; do pub_topics+=("mtc/InteractionResponse/${s^^}"); done
     [[ ",${publishes[$i]}," == *,door,* ]] && pub_topics+=(mtc/DoorState)
     [[ ",${publishes[$i]}," == *,chuck,* ]] && pub_topics+=(mtc/ChuckState)
     for r in ${reads[$i]//,/ }; do

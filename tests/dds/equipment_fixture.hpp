@@ -8,6 +8,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "mtc/dds/equipment.hpp"
@@ -78,6 +79,16 @@ class Recorder {
     }
     for (const auto& d : diagnostics_) out += "  diag " + d + "\n";
     return out;
+  }
+  // Waits for a diagnostic (EquipmentCallbacks::on_diagnostic) containing `text`.
+  bool wait_diagnostic(const std::string& text, std::chrono::milliseconds timeout = kTimeout) {
+    return wait(
+        [&] {
+          return std::any_of(diagnostics_.begin(), diagnostics_.end(), [&](const std::string& d) {
+            return d.find(text) != std::string::npos;
+          });
+        },
+        timeout);
   }
   bool saw_notice(core::Notice n, core::Reason r) {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -37,12 +37,11 @@ class RawPeer {
       : participant_(domain, qos::participant_qos(mtc::test::loopback<qos::ParticipantConfig>())),
         publisher_(participant_, {topics::device_partition(uuid)}),
         heartbeat_(participant_, publisher_, uuid),
-        side_(side) {
+        side_(side),
+        service_(service) {
     participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
-    topic_ = std::make_unique<Topic>(
-        participant_,
-        side == core::SubType::Request ? topics::kInteractionRequest : topics::kInteractionResponse,
-        "mtc::idl::InteractionSample", qos::state_topic().topic_qos());
+    topic_ = std::make_unique<Topic>(participant_, topics::interaction_topic(side, service),
+                                     "mtc::idl::InteractionSample", qos::state_topic().topic_qos());
     writer_ = std::make_unique<Writer<idl::InteractionSample>>(
         publisher_, *topic_, qos::state_topic().writer_qos(), listener_);
     sample_.device_uuid(uuid);
@@ -78,11 +77,7 @@ class RawPeer {
     std::unique_lock<std::mutex> lock(mutex_);
     while (!cv_.wait_for(lock, std::chrono::milliseconds(100), [this] { return stop_; })) {
       if (sample_.sequence_number() == 0) continue;
-      if (side_ == core::SubType::Request) {
-        heartbeat_.sample().request_changes(sample_.sequence_number());
-      } else {
-        heartbeat_.sample().response_changes(sample_.sequence_number());
-      }
+      heartbeat_.announce_interaction(service_, side_, sample_.sequence_number());
       heartbeat_.beat();
     }
   }
@@ -92,6 +87,7 @@ class RawPeer {
   Publisher publisher_;
   HeartbeatWriter heartbeat_;
   core::SubType side_;
+  core::Service service_;
   QuietListener listener_;
   std::unique_ptr<Topic> topic_;
   std::unique_ptr<Writer<idl::InteractionSample>> writer_;

@@ -78,8 +78,9 @@ class RawDevice {
     participant_.register_type(mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
     participant_.register_type(mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
     response_topic_ = std::make_unique<mtc::dds::detail::Topic>(
-        participant_, topics::kInteractionResponse, "mtc::idl::InteractionSample",
-        mtc::qos::state_topic().topic_qos());
+        participant_,
+        topics::interaction_topic(mtc::core::SubType::Response, mtc::core::Service::MaterialLoad),
+        "mtc::idl::InteractionSample", mtc::qos::state_topic().topic_qos());
     description_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_, topics::kDeviceDescription, "mtc::idl::DeviceDescription",
         mtc::qos::device_description_topic().topic_qos());
@@ -120,7 +121,8 @@ class RawDevice {
   void drop_writer() { writer_.reset(); }
   // One heartbeat announcing `changes` as the newest response change.
   void beat(std::uint64_t changes) {
-    heartbeat_.sample().response_changes(changes);
+    heartbeat_.announce_interaction(mtc::core::Service::MaterialLoad, mtc::core::SubType::Response,
+                                    changes);
     heartbeat_.beat();
   }
 

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "equipment_fixture.hpp"
 #include "mtc/dds/detail/entities.hpp"
@@ -129,20 +131,30 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   Participant participant(kDomain,
                           qos::participant_qos(mtc::test::loopback<qos::ParticipantConfig>()));
   participant.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
-  Topic request(participant, topics::kInteractionRequest, "mtc::idl::InteractionSample",
-                qos::state_topic().topic_qos());
-  Topic response(participant, topics::kInteractionResponse, "mtc::idl::InteractionSample",
-                 qos::state_topic().topic_qos());
+  // Both sides of the three services: one topic each.
+  std::vector<std::unique_ptr<Topic>> interaction_topics;
+  for (auto service : {Service::MaterialLoad, Service::MaterialUnload, Service::OpenDoor}) {
+    for (auto side : {core::SubType::Request, core::SubType::Response}) {
+      interaction_topics.push_back(
+          std::make_unique<Topic>(participant, topics::interaction_topic(side, service),
+                                  "mtc::idl::InteractionSample", qos::state_topic().topic_qos()));
+    }
+  }
   Subscriber subscriber(participant, {topics::kAllDevicesPartition});
   HandleCounter counter;
-  Reader request_reader(subscriber, request, qos::state_topic().reader_qos(), &counter);
-  Reader response_reader(subscriber, response, qos::state_topic().reader_qos(), &counter);
+  std::vector<std::unique_ptr<Reader>> readers;
+  readers.reserve(interaction_topics.size());
+  for (auto& topic : interaction_topics) {
+    readers.push_back(
+        std::make_unique<Reader>(subscriber, *topic, qos::state_topic().reader_qos(), &counter));
+  }
 
   cnc.start();
   robot.start();
   // start() publishes each of the six interaction items (TRANSIENT_LOCAL),
   // and a writer sends to a reader only once it has matched it: when all six
-  // have arrived, each of the four writers has matched the test's readers.
+  // have arrived, each of the six writers (one per item: a service and a
+  // side) has matched the test's readers.
   // The handshakes take a few hundred ms; begun earlier, they could all be
   // over before a late-discovered writer matched, leaving the readers with
   // its items' last values only, and nothing written after them.

@@ -18,10 +18,11 @@ namespace mtc::security_test {
 
 namespace fs = std::filesystem;
 
-// The test cell: cnc requests MATERIAL_LOAD from robot; intruder is a valid
-// device identity with no service of its own; watcher is read-only.
+// The test cell: cnc requests MATERIAL_LOAD and MATERIAL_UNLOAD from robot,
+// which provides MATERIAL_LOAD only; intruder is a valid device identity
+// that provides nothing; watcher is read-only.
 inline constexpr const char* kCellDescription =
-    "device sec-cnc requests=material_load reads=sec-robot\n"
+    "device sec-cnc requests=material_load,material_unload reads=sec-robot\n"
     "device sec-robot provides=material_load reads=sec-cnc\n"
     "device sec-intruder requests=open_door reads=*\n"
     "observer sec-watcher\n";

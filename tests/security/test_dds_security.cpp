@@ -6,9 +6,15 @@
 // delivery is off, so every sample crosses a transport (and its encryption).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "../dds/equipment_fixture.hpp"
 #include "mtc/dds/detail/entities.hpp"
@@ -78,22 +84,24 @@ class RawParticipant {
     c.security_dir = security_dir;
     return c;
   }
-  detail::Topic& topic(SubType side) {
-    auto& t = side == SubType::Request ? request_topic_ : response_topic_;
+  // The interaction topic of (side, service), made once.
+  detail::Topic& topic(SubType side, core::Service service) {
+    auto& t = topics_[{side, service}];
     if (!t) {
-      t = std::make_unique<detail::Topic>(
-          participant_,
-          side == SubType::Request ? topics::kInteractionRequest : topics::kInteractionResponse,
-          "mtc::idl::InteractionSample", qos::state_topic(test_timing()).topic_qos());
+      t = std::make_unique<detail::Topic>(participant_, topics::interaction_topic(side, service),
+                                          "mtc::idl::InteractionSample",
+                                          qos::state_topic(test_timing()).topic_qos());
     }
     return *t;
   }
   // Throws CreationError when the permissions refuse the writer.
-  void make_writer(SubType side, const std::string& partition_uuid) {
+  void make_writer(SubType side, const std::string& partition_uuid,
+                   core::Service service = core::Service::MaterialLoad) {
+    writer_.reset();
     publisher_ = std::make_unique<detail::Publisher>(
         participant_, std::vector<std::string>{topics::device_partition(partition_uuid)});
     writer_ = std::make_unique<detail::Writer<idl::InteractionSample>>(
-        *publisher_, topic(side), qos::state_topic(test_timing()).writer_qos(), listener_);
+        *publisher_, topic(side, service), qos::state_topic(test_timing()).writer_qos(), listener_);
   }
   // `on_data` is called (from a Fast DDS thread, after the samples are
   // counted) when samples arrive, so a test can wait for them.
@@ -103,21 +111,28 @@ class RawParticipant {
     subscriber_ = std::make_unique<detail::Subscriber>(
         participant_, std::vector<std::string>{topics::device_partition(partition_uuid)});
     reader_ = std::make_unique<detail::Reader>(
-        *subscriber_, topic(side), qos::state_topic(test_timing()).reader_qos(), &reader_listener_);
+        *subscriber_, topic(side, core::Service::MaterialLoad),
+        qos::state_topic(test_timing()).reader_qos(), &reader_listener_);
   }
-  // Poses as `uuid` with an ACTIVE request for MATERIAL_LOAD on mh1.
-  void write_active_request(const std::string& uuid, std::uint32_t seq) {
+  // Writes, as `uuid`, the mh1 item of (service, side) in `state`, on
+  // whichever topic the writer has.
+  void write_item(const std::string& uuid, core::Service service, SubType side,
+                  core::InteractionState state, std::uint32_t seq) {
     idl::InteractionSample s;
     s.device_uuid(uuid);
     s.interface_id("mh1");
-    s.data_item_id(
-        topics::interaction_item_id("mh1", core::Service::MaterialLoad, SubType::Request));
-    s.service(topics::to_idl(core::Service::MaterialLoad));
-    s.sub_type(topics::to_idl(SubType::Request));
-    s.state(topics::to_idl(core::InteractionState::Active));
+    s.data_item_id(topics::interaction_item_id("mh1", service, side));
+    s.service(topics::to_idl(service));
+    s.sub_type(topics::to_idl(side));
+    s.state(topics::to_idl(state));
     s.sequence_number(seq);
     s.source_time_ns(topics::realtime_ns());
     writer_->write(s);
+  }
+  // Poses as `uuid` with an ACTIVE request for MATERIAL_LOAD on mh1.
+  void write_active_request(const std::string& uuid, std::uint32_t seq) {
+    write_item(uuid, core::Service::MaterialLoad, SubType::Request, core::InteractionState::Active,
+               seq);
   }
   int writer_matches() const {
     fdds::PublicationMatchedStatus st;
@@ -153,8 +168,7 @@ class RawParticipant {
   detail::Participant participant_;
   QuietListener listener_;
   DataListener reader_listener_;  // outlives reader_
-  std::unique_ptr<detail::Topic> request_topic_;
-  std::unique_ptr<detail::Topic> response_topic_;
+  std::map<std::pair<SubType, core::Service>, std::unique_ptr<detail::Topic>> topics_;
   std::unique_ptr<detail::Publisher> publisher_;
   std::unique_ptr<detail::Writer<idl::InteractionSample>> writer_;
   std::unique_ptr<detail::Subscriber> subscriber_;
@@ -347,10 +361,13 @@ TEST_F(Security, ValidIdentityCannotWriteWhatItsPermissionsDoNotGrant) {
   RawParticipant raw(134, intruder);
   // A RESPONSE: the intruder provides no service.
   EXPECT_THROW(raw.make_writer(SubType::Response, "sec-intruder"), CreationError);
-  // A REQUEST in another device's partition, posing as the cnc.
-  EXPECT_THROW(raw.make_writer(SubType::Request, "sec-cnc"), CreationError);
-  // Its own partition is granted: the refusals above are the permissions.
-  EXPECT_NO_THROW(raw.make_writer(SubType::Request, "sec-intruder"));
+  // A REQUEST of the service it requests, in another device's partition,
+  // posing as the cnc.
+  EXPECT_THROW(raw.make_writer(SubType::Request, "sec-cnc", core::Service::OpenDoor),
+               CreationError);
+  // The same in its own partition is granted: the refusals above are the
+  // permissions.
+  EXPECT_NO_THROW(raw.make_writer(SubType::Request, "sec-intruder", core::Service::OpenDoor));
 
   // An Equipment that claims to be the robot with the intruder's identity
   // cannot start, so the real cnc's requester never pairs nor moves.
@@ -366,6 +383,91 @@ TEST_F(Security, ValidIdentityCannotWriteWhatItsPermissionsDoNotGrant) {
   EXPECT_FALSE(cell.cnc_rec.wait([&] { return cell.cnc.link_state("mh1") == LinkState::Up; },
                                  std::chrono::seconds(3)));
   EXPECT_EQ(cell.load->counterpart_state(), InteractionState::Unavailable);
+}
+
+// A device may publish RESPONSE items only of the services it provides
+// (issue 11). The robot provides MATERIAL_LOAD only: with its own valid
+// identity it cannot make a writer of mtc/InteractionResponse/MATERIAL_UNLOAD,
+// not even in its own partition (its permissions grant no such topic), and a
+// MATERIAL_UNLOAD item written on the MATERIAL_LOAD topic it may use is a
+// protocol violation that the cnc and an observer (the bridge's tap) report
+// by name and ignore: the cnc's MATERIAL_UNLOAD requester never moves.
+TEST_F(Security, DeviceCannotRespondForAServiceItDoesNotProvide) {
+  constexpr int kDomain = 139;
+  Recorder cnc_rec;
+  Equipment cnc(secured(kDomain, "sec-cnc", "sec-cnc"), cnc_rec.callbacks());
+  cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"sec-robot", "mh1"}});
+  auto& load = cnc.add_requester("mh1", core::Service::MaterialLoad);
+  auto& unload = cnc.add_requester("mh1", core::Service::MaterialUnload);
+  cnc.start();
+  std::vector<std::string> observer_reports;  // guarded by the recorder's wake-ups
+  std::mutex reports_mutex;
+  DomainObserverOptions oo;
+  oo.domain_id = kDomain;
+  oo.transport = qos::Transport::LoopbackUdp;
+  oo.timing = test_timing();
+  oo.security_dir = Pki::get().dir("sec-watcher");
+  DomainObserverCallbacks ocb;
+  ocb.on_protocol_violation = [&](const std::string&, const std::string& report) {
+    {
+      std::lock_guard<std::mutex> lock(reports_mutex);
+      observer_reports.push_back(report);
+    }
+    cnc_rec.notify();
+  };
+  DomainObserver observer(oo, ocb);
+
+  RawParticipant robot(kDomain, Pki::get().dir("sec-robot"));
+  const auto refused = what_of([&] {
+    robot.make_writer(SubType::Response, "sec-robot", core::Service::MaterialUnload);
+    // Only reached when the permissions let it through (the red check):
+    // the READY then reaches the cnc, whose requester sees it.
+    robot.write_item("sec-robot", core::Service::MaterialUnload, SubType::Response,
+                     InteractionState::Ready, 1);
+    cnc_rec.wait([&] { return unload.counterpart_state() != InteractionState::Unavailable; });
+  });
+  EXPECT_EQ(unload.counterpart_state(), InteractionState::Unavailable) << cnc_rec.dump();
+  EXPECT_NE(refused.find("create_datawriter mtc/InteractionResponse/MATERIAL_UNLOAD"),
+            std::string::npos)
+      << refused;
+  // The control: its MATERIAL_LOAD RESPONSE topic is granted, and its READY
+  // reaches the cnc.
+  ASSERT_NO_THROW(robot.make_writer(SubType::Response, "sec-robot", core::Service::MaterialLoad));
+  robot.write_item("sec-robot", core::Service::MaterialLoad, SubType::Response,
+                   InteractionState::Ready, 1);
+  ASSERT_TRUE(cnc_rec.wait([&] { return load.counterpart_state() == InteractionState::Ready; }))
+      << cnc_rec.dump();
+  const auto unload_transitions = [&cnc_rec] {
+    const auto all = cnc_rec.transitions();
+    return std::count_if(all.begin(), all.end(), [](const TransitionEvent& e) {
+      return e.step.service == core::Service::MaterialUnload;
+    });
+  };
+  const auto unload_before = unload.state();
+  const auto unload_transitions_before = unload_transitions();
+
+  // The lie: a MATERIAL_UNLOAD RESPONSE item on the MATERIAL_LOAD topic.
+  robot.write_item("sec-robot", core::Service::MaterialUnload, SubType::Response,
+                   InteractionState::Ready, 2);
+  const std::string named =
+      "mh1_material_unload_response (MATERIAL_UNLOAD RESPONSE) on topic "
+      "mtc/InteractionResponse/MATERIAL_LOAD";
+  EXPECT_TRUE(cnc_rec.wait_diagnostic("protocol violation: device sec-robot wrote " + named))
+      << cnc_rec.dump();
+  EXPECT_TRUE(cnc_rec.wait([&] {
+    std::lock_guard<std::mutex> lock(reports_mutex);
+    return !observer_reports.empty();
+  }));
+  {
+    std::lock_guard<std::mutex> lock(reports_mutex);
+    EXPECT_EQ(observer_reports.size(), 1u);
+    for (const auto& report : observer_reports) {
+      EXPECT_NE(report.find(named), std::string::npos) << report;
+    }
+  }
+  EXPECT_EQ(unload.counterpart_state(), InteractionState::Unavailable) << cnc_rec.dump();
+  EXPECT_EQ(unload.state(), unload_before);
+  EXPECT_EQ(unload_transitions(), unload_transitions_before) << cnc_rec.dump();
 }
 
 // ------------------------------------------------------------ restarts

@@ -47,11 +47,9 @@ struct RoguePeer::Impl {
   // The heartbeat, announcing the newest change.
   void beat() {
     std::lock_guard<std::mutex> lock(mutex);
-    if (sample.sub_type() == idl::sub_types::REQUEST) {
-      heartbeat->sample().request_changes(sample.sequence_number());
-    } else {
-      heartbeat->sample().response_changes(sample.sequence_number());
-    }
+    // The topic's service and side: the sample may claim another service
+    // (a test of the peer checks).
+    heartbeat->announce_interaction(topic_service, topic_side, sample.sequence_number());
     heartbeat->beat();
   }
 
@@ -66,6 +64,8 @@ struct RoguePeer::Impl {
   }
 
   qos::Timing timing;
+  core::Service topic_service = core::Service::MaterialLoad;
+  core::SubType topic_side = core::SubType::Request;
   dds::detail::Participant participant;
   std::unique_ptr<dds::detail::Topic> topic;
   std::unique_ptr<dds::detail::Publisher> publisher;
@@ -94,10 +94,10 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
   fdds::TypeSupport type = idl::type_support<idl::InteractionSamplePubSubType>();
   i.participant.register_type(type);
   const bool request = own_side == core::SubType::Request;
+  i.topic_service = service;
+  i.topic_side = own_side;
   i.topic = std::make_unique<dds::detail::Topic>(
-      i.participant,
-      request ? dds::detail::topics::kInteractionRequest
-              : dds::detail::topics::kInteractionResponse,
+      i.participant, dds::detail::topics::interaction_topic(own_side, service),
       type.get_type_name(), qos::state_topic(i.timing).topic_qos());
   i.publisher = std::make_unique<dds::detail::Publisher>(
       i.participant, std::vector<std::string>{dds::detail::topics::device_partition(device)});

@@ -116,9 +116,18 @@ struct ObservedValue {
   ItemKind kind() const noexcept { return state.kind(); }
 };
 
+// The newest change number of one of a group's interaction writers (one
+// writer per service and side).
+struct InteractionChange {
+  Service service = Service::MaterialLoad;
+  SubType sub_type = SubType::Request;
+  std::uint64_t changes = 0;
+};
+
 // One heartbeat of one timing group of a device: it is alive, and these are
 // the newest change numbers (sequence_number) of the group's writers per item
-// kind; 0 = no change written yet.
+// kind; 0 = no change written yet. request_changes and response_changes sum
+// the group's interaction writers of that side; interaction_changes has each.
 struct ObservedHeartbeat {
   std::string device_uuid;
   std::uint32_t group = 0;  // 0: the device's own timing
@@ -130,6 +139,7 @@ struct ObservedHeartbeat {
   std::uint64_t interface_state_changes = 0;
   std::uint64_t door_state_changes = 0;
   std::uint64_t chuck_state_changes = 0;
+  std::vector<InteractionChange> interaction_changes;
   std::int64_t source_time_ns = 0;
   std::int64_t reception_time_ns = 0;
 };

@@ -64,7 +64,10 @@ struct DomainObserverCallbacks {
   // a state outside its item's vocabulary (the value still arrives: print it
   // as UNAVAILABLE), an interaction sample naming no known service or
   // sub-type (dropped), change numbers that go back or leap (reported once
-  // per writer, item and rule). Unset: the report goes to stderr.
+  // per writer, item and rule), an interaction sample whose service or
+  // sub-type disagrees with the topic it came on (mtc/InteractionResponse/
+  // MATERIAL_LOAD carries MATERIAL_LOAD RESPONSE items only; dropped,
+  // reported once per writer and topic). Unset: the report goes to stderr.
   std::function<void(const std::string& device_uuid, const std::string& report)>
       on_protocol_violation;
 };

@@ -5,7 +5,9 @@
 // which change numbers to announce.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -37,6 +39,29 @@ class HeartbeatWriter {
 
   // The next heartbeat: set the change numbers to announce here.
   idl::Heartbeat& sample() noexcept { return sample_; }
+  // Announces `changes` as the newest change of the peer's one interaction
+  // writer of (service, side): its interaction_changes entry and the side's
+  // total.
+  void announce_interaction(core::Service service, core::SubType side, std::uint64_t changes) {
+    const auto idl_service = topics::to_idl(service);
+    const auto idl_side = topics::to_idl(side);
+    auto& entries = sample_.interaction_changes();
+    auto it = std::find_if(entries.begin(), entries.end(), [&](const auto& c) {
+      return c.service() == idl_service && c.sub_type() == idl_side;
+    });
+    if (it == entries.end()) {
+      entries.emplace_back();
+      it = std::prev(entries.end());
+      it->service(idl_service);
+      it->sub_type(idl_side);
+    }
+    it->changes(changes);
+    if (side == core::SubType::Request) {
+      sample_.request_changes(changes);
+    } else {
+      sample_.response_changes(changes);
+    }
+  }
   // Writes one heartbeat (beat counter bumped, source time now).
   void beat() {
     sample_.beat(sample_.beat() + 1);
