@@ -245,6 +245,11 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
   s.service(topics::to_idl(slot.service));
   s.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
   s.state(topics::to_idl(itf.model->machine(slot.service, slot.role)->state()));
+  {
+    std::lock_guard<std::mutex> lock(binding_mutex);
+    s.paired_device_uuid(itf.cp_uuid);
+    s.paired_interface_id(itf.cp_interface);
+  }
   writer->write(s);
   wrote(g, request ? TopicKind::Request : TopicKind::Response, seq);
   bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response);
