@@ -314,8 +314,13 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
       link_lost(*itf, owner.item + ": " + cause);
     }
   }
+  // Only a graceful end disposes (Equipment's destructor, every instance;
+  // the announcement's own disposal may arrive as a loss of its writer).
+  if (disposed) {
+    device_left(owner.device,
+                (owner.item.empty() ? std::string("an instance") : owner.item) + " was disposed");
+  }
   if (topic == TopicKind::DeviceDescription) {
-    if (disposed) device_left(owner.device, "its announcement was disposed");
     if (auto held = owners.release_device(owner.device)) on_device(*held);
   }
 }

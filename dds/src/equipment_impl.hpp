@@ -293,7 +293,7 @@ struct EquipmentImpl {
                      const std::string& interface_id);
   void elect_due(SteadyClock::time_point now);
   SteadyClock::time_point next_election() const;
-  // The device disposed its announcement (a graceful end): it is no longer a
+  // The device disposed its instances (a graceful end): it is no longer a
   // candidate, and interfaces paired with it by rule are free again.
   void device_left(const std::string& device, const std::string& cause);
   void unpair(InterfaceSlot& itf, const std::string& cause);

@@ -8,7 +8,7 @@
 // (device uuid, interface id). First-come alone would be a coin toss for
 // counterparts started together: their announcements race on the network.
 // The pairing holds until the paired device leaves (disposes its
-// announcement); a lost one (killed, hung, cut off) is waited for, so that
+// instances); a lost one (killed, hung, cut off) is waited for, so that
 // both sides meet again after scenario 6.
 //
 // Every interaction sample names the writer's pairing, so a counterpart's

@@ -95,8 +95,8 @@ struct RequestOptions {
 // pairing rule (docs/interaction-model.md, Pairing): every such interface
 // announced within EquipmentOptions::pairing_settle of the first one is a
 // candidate, the lowest (device uuid, interface id) wins, and the pairing
-// holds until that device leaves (disposes its announcement on a graceful
-// end; a lost one is waited for, scenario 6).
+// holds until that device leaves (disposes its instances on a graceful end;
+// a lost one is waited for, scenario 6).
 struct CounterpartSpec {
   std::string device_uuid;
   std::string interface_id;
