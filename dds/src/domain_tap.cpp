@@ -43,6 +43,8 @@ ObservedValue observe(const idl::InteractionSample& s) {
   v.service = topics::from_idl(s.service());
   v.sub_type = topics::from_idl(s.sub_type());
   v.state = observed_state(ItemKind::Interaction, s.state());
+  v.paired_device_uuid = s.paired_device_uuid().to_string();
+  v.paired_interface_id = s.paired_interface_id().to_string();
   return v;
 }
 
@@ -113,7 +115,8 @@ class TapListener final : public fdds::DataReaderListener {
       if (info.valid_data) {
         emit(sample, info);
       } else if (info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
-        sink_(InstanceGoneEvent{kind_, to_handle(info.instance_handle)});
+        sink_(InstanceGoneEvent{kind_, to_handle(info.instance_handle),
+                                info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE});
       }
     }
   }

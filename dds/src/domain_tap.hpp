@@ -94,8 +94,9 @@ struct DeviceEvent {
 };
 // An instance was disposed or lost all its writers.
 struct InstanceGoneEvent {
-  TopicKind topic;
-  Handle instance;
+  TopicKind topic{};
+  Handle instance{};
+  bool disposed = false;  // by its writer (a graceful leave), not for want of writers
 };
 // A writer stopped asserting liveliness (or went away) / came back.
 struct WriterLivelinessEvent {

@@ -21,6 +21,8 @@ std::string_view to_string(Outcome o) noexcept {
       return "COMMS_LOST";
     case Outcome::Rejected:
       return "REJECTED";
+    case Outcome::Excluded:
+      return "EXCLUDED";
   }
   return "?";
 }
@@ -35,6 +37,8 @@ std::string_view to_string(LinkState s) noexcept {
       return "UP";
     case LinkState::Lost:
       return "LOST";
+    case LinkState::Excluded:
+      return "EXCLUDED";
   }
   return "?";
 }
@@ -161,6 +165,11 @@ Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
       throw ConfigError("Equipment " + options.device_uuid + ": " + *problem);
     }
   }
+  if (options.pairing_settle < std::chrono::milliseconds(0) ||
+      options.pairing_settle > std::chrono::minutes(1)) {
+    throw ConfigError("Equipment: pairing_settle " +
+                      std::to_string(options.pairing_settle.count()) + " ms outside 0..60000 ms");
+  }
   if (options.device_name.empty()) options.device_name = options.device_uuid;
   impl_->options = std::move(options);
   impl_->callbacks = std::move(callbacks);
@@ -273,6 +282,7 @@ void Equipment::start() {
   // it (the pairing with a configured counterpart, the first samples) and
   // may call this Equipment back, so it counts as started from here on.
   impl_->started = true;
+  impl_->name_configured_counterparts();  // the first samples name them
   try {
     impl_->create_entities();
   } catch (...) {

@@ -24,7 +24,7 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
         } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
           on_device(e);
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
-          on_gone(group, e.topic, e.instance, "disposed or no writers");
+          on_gone(group, e.topic, e.instance, e.disposed);
         } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
           if (!e.alive && e.unmatched) {
             peer_checks.forget_writer(e.writer);
@@ -54,67 +54,6 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
       event);
 }
 
-void EquipmentImpl::bind_configured() {
-  for (auto& itf : interfaces) {
-    const auto& spec = itf->config.counterpart;
-    if (!spec.device_uuid.empty() && !spec.interface_id.empty()) {
-      try_bind(*itf, spec.device_uuid, spec.interface_id);
-    }
-  }
-}
-
-bool EquipmentImpl::try_bind(InterfaceSlot& itf, const std::string& device,
-                             const std::string& interface_id) {
-  if (itf.link.load() != LinkState::Unpaired) return false;
-  {
-    std::lock_guard<std::mutex> lock(binding_mutex);
-    itf.cp_uuid = device;
-    itf.cp_interface = interface_id;
-  }
-  set_link(itf, LinkState::Paired, "paired with " + device + "/" + interface_id);
-  replay_seen_values(itf);
-  return true;
-}
-
-// The counterpart's values that arrived before the pairing, as if they
-// arrived now (INTERFACE_STATE first: it decides whether the link is up).
-void EquipmentImpl::replay_seen_values(InterfaceSlot& itf) {
-  std::vector<const SeenValue*> known;
-  for (auto it = seen_values.lower_bound({itf.cp_uuid, ""});
-       it != seen_values.end() && it->first.first == itf.cp_uuid; ++it) {
-    if (it->second.value.interface_id == itf.cp_interface) known.push_back(&it->second);
-  }
-  std::stable_partition(known.begin(), known.end(), [](const SeenValue* s) {
-    return s->value.kind() == ItemKind::InterfaceState;
-  });
-  for (const auto* s : known) {
-    note_counterpart_value(itf, s->writer, s->value);
-    if (s->value.state.interface_state() == core::InterfaceState::Unavailable) continue;
-    if (itf.link.load() != LinkState::Up) link_up(itf, "value received");
-    deliver(itf, s->value, false);
-  }
-}
-
-namespace {
-
-// True when the announced interface carries the opposite side of at least
-// one of our services (or we declared none: pairing by type alone).
-bool complements(const EquipmentImpl& impl, const InterfaceSlot& itf,
-                 const ObservedInterface& other) {
-  if (other.type != itf.config.type) return false;
-  if (itf.services.empty()) return true;
-  for (auto index : itf.services) {
-    const auto& s = *impl.slots[index];
-    const auto* const wanted = s.role == core::Role::Requester ? "RESPONSE" : "REQUEST";
-    for (const auto& item : other.data_items) {
-      if (item.type == core::to_string(s.service) && item.sub_type == wanted) return true;
-    }
-  }
-  return false;
-}
-
-}  // namespace
-
 // Without DDS-Security nothing stops a participant from writing another
 // device's uuid: the live owner speaks for it (see detail::DeviceOwners).
 bool EquipmentImpl::owned_by_writer(const std::string& device, const detail::Handle& writer,
@@ -124,32 +63,6 @@ bool EquipmentImpl::owned_by_writer(const std::string& device, const detail::Han
     diagnostic(detail::ownership_conflict(owners, device, writer, said));
   }
   return false;
-}
-
-void EquipmentImpl::on_device(detail::DeviceEvent& e) {
-  const auto& d = e.device;
-  if (d.device_uuid == options.device_uuid) return;
-  if (!owned_by_writer(d.device_uuid, e.writer, detail::Said::Announcement)) {
-    owners.hold(e);
-    return;
-  }
-  writer_device[e.writer] = d.device_uuid;
-  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "", 0};
-  description_writers.insert(e.writer);
-  for (auto& itf : interfaces) {
-    if (itf->link.load() != LinkState::Unpaired) continue;
-    const auto& spec = itf->config.counterpart;
-    if (!spec.device_uuid.empty() && spec.device_uuid != d.device_uuid) continue;
-    for (const auto& other : d.interfaces) {
-      if (!spec.interface_id.empty() && other.id != spec.interface_id) continue;
-      if (complements(*this, *itf, other)) {
-        try_bind(*itf, d.device_uuid, other.id);
-        break;
-      }
-    }
-  }
-  // What it wrote before it took the device over.
-  for (auto& held : owners.take_values(d.device_uuid, e.writer)) on_value(held.group, held.event);
 }
 
 void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
@@ -186,16 +99,7 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
     }
     if (itf->cp_uuid != v.device_uuid || itf->cp_interface != v.interface_id) continue;
-    note_counterpart_value(*itf, e.writer, v);
-    if (v.state.interface_state() == core::InterfaceState::Unavailable) {
-      if (callbacks.on_counterpart_value) {
-        guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
-      }
-      link_lost(*itf, "counterpart INTERFACE_STATE UNAVAILABLE");
-      continue;
-    }
-    if (itf->link.load() != LinkState::Up) link_up(*itf, "value received");
-    deliver(*itf, v, missed_change);
+    take_counterpart_value(*itf, e.writer, v, missed_change);
   }
   // After the interfaces: a pairing above replays what was seen before.
   seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v};
@@ -233,6 +137,8 @@ void EquipmentImpl::deliver(InterfaceSlot& itf, const ObservedValue& v, bool mis
   }
   if (slot != nullptr) {
     if (const auto parsed = v.state.interaction()) slot->snap_counterpart = *parsed;
+    slot->addressed =
+        v.paired_device_uuid == options.device_uuid && v.paired_interface_id == itf.config.id;
   }
   if (callbacks.on_counterpart_value) {
     guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
@@ -400,7 +306,8 @@ void EquipmentImpl::check_silence() {
 // on_deadline_missed instead). A heartbeat instance stands for every
 // interface its group vouches for.
 void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Handle& instance,
-                            const char* cause) {
+                            bool disposed) {
+  const char* cause = disposed ? "disposed" : "without writers";
   const auto it = instance_item.find({topic, instance});
   if (it == instance_item.end()) return;
   const auto owner = it->second;
@@ -417,6 +324,12 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
     } else if (owner.interface_id == itf->cp_interface) {
       link_lost(*itf, owner.item + ": " + cause);
     }
+  }
+  // Only a graceful end disposes (Equipment's destructor, every instance;
+  // the announcement's own disposal may arrive as a loss of its writer).
+  if (disposed) {
+    device_left(owner.device,
+                (owner.item.empty() ? std::string("an instance") : owner.item) + " was disposed");
   }
   if (topic == TopicKind::DeviceDescription) {
     if (auto held = owners.release_device(owner.device)) on_device(*held);
@@ -494,7 +407,7 @@ void EquipmentImpl::owner_silent(std::size_t group, const detail::PeerGroupKey& 
 }
 
 void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {
-  if (itf.link.load() != LinkState::Up) return;
+  if (itf.link.load() != LinkState::Up) return;  // an Excluded one has nothing to lose
   // The machines take the loss as UNAVAILABLE: every value is stale now.
   itf.cp_stale.clear();
   for (const auto& [id, value] : itf.cp_values) itf.cp_stale.insert(id);

@@ -67,6 +67,9 @@ struct ServiceSlot {
   core::Reason fail_reason = core::Reason::None;
   // Counterpart item: last sequence number seen from its writer.
   std::uint64_t counterpart_seq = 0;
+  // Requester: the counterpart's newest response names this interface as
+  // its pairing; only then does a request go ACTIVE.
+  bool addressed = false;
   std::atomic<core::InteractionState> snap_state{core::InteractionState::Unavailable};
   std::atomic<core::InteractionState> snap_counterpart{core::InteractionState::Unavailable};
 };
@@ -143,6 +146,12 @@ struct InterfaceSlot {
   std::set<std::string> cp_stale;
   std::int64_t last_heard_ns = 0;  // newest value or heartbeat of the counterpart
   std::atomic<LinkState> link{LinkState::Unpaired};
+  // Pairing by rule (no counterpart device configured): every complementary
+  // interface announced (device uuid, interface id), and when the election
+  // among them is due (set by the first candidate while unpaired).
+  std::set<std::pair<std::string, std::string>> candidates;
+  std::optional<SteadyClock::time_point> elect_at;
+  bool paired_by_rule() const { return config.counterpart.device_uuid.empty(); }
 
   template <typename State>
   DoorChuckItem<State>& door_chuck_item() {
@@ -251,6 +260,8 @@ struct EquipmentImpl {
   void auto_recover(ServiceSlot& slot, SteadyClock::time_point now);
   void resolve_pending(ServiceSlot& slot, const core::StepResult& r);
   void try_issue(ServiceSlot& slot, SteadyClock::time_point now);
+  // Resolves the pending request (there must be one) with this result.
+  void end_pending(ServiceSlot& slot, Outcome outcome, core::Reason reason);
   void on_wake(SteadyClock::time_point now);
   SteadyClock::time_point next_wake() const;
   ServiceSlot* slot_for(InterfaceSlot& itf, core::Service service, core::Role role) const;
@@ -264,10 +275,11 @@ struct EquipmentImpl {
   void on_heartbeat(std::size_t group, detail::HeartbeatEvent& e);
   void redeliver_stale(InterfaceSlot& itf);
   void feed_counterpart(ServiceSlot& slot, const ObservedValue& v, bool missed_change);
+  void name_configured_counterparts();
   void bind_configured();
   void on_device(detail::DeviceEvent& e);
   void on_gone(std::size_t group, detail::TopicKind topic, const detail::Handle& instance,
-               const char* cause);
+               bool disposed);
   void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
                       bool check_silence);
   void on_deadline_missed(std::size_t group);
@@ -289,6 +301,23 @@ struct EquipmentImpl {
   void set_link(InterfaceSlot& itf, LinkState next, const std::string& cause);
   bool try_bind(InterfaceSlot& itf, const std::string& device, const std::string& interface_id);
   void replay_seen_values(InterfaceSlot& itf);
+  // --- pairing rule and exclusion (equipment_pairing.cpp) ---
+  // A counterpart value for `itf`: link state, exclusion, delivery.
+  void take_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
+                              const ObservedValue& v, bool missed_change);
+  void add_candidate(InterfaceSlot& itf, const std::string& device,
+                     const std::string& interface_id);
+  void elect_due(SteadyClock::time_point now);
+  SteadyClock::time_point next_election() const;
+  // The device disposed its instances (a graceful end): it is no longer a
+  // candidate, and interfaces paired with it by rule are free again.
+  void device_left(const std::string& device, const std::string& cause);
+  void unpair(InterfaceSlot& itf, const std::string& cause);
+  void exclude(InterfaceSlot& itf, const ObservedValue& v);
+  void readmit(InterfaceSlot& itf);
+  // Our pairing changed: every interaction item of the interface is written
+  // again (same value and source time) naming it.
+  void publish_pairing(InterfaceSlot& itf);
   void diagnostic(const std::string& text);
   // False (reported once) when `writer` is not of the participant that
   // announced `device`; an announcement claims an unowned device.

@@ -146,22 +146,37 @@ void EquipmentImpl::resolve_pending(ServiceSlot& slot, const core::StepResult& r
 void EquipmentImpl::try_issue(ServiceSlot& slot, SteadyClock::time_point now) {
   if (!slot.pending || slot.pending->issued) return;
   auto& itf = *interfaces[slot.interface_index];
+  if (itf.link.load() == LinkState::Excluded) {
+    end_pending(slot, Outcome::Excluded, core::Reason::None);
+    return;
+  }
   auto* machine = itf.model->machine(slot.service, slot.role);
+  // The response must name this interface: a responder not paired yet
+  // reads no request, one paired with another never will (exclude()).
   const bool both_ready = machine->state() == core::InteractionState::Ready &&
                           machine->counterpart() == core::InteractionState::Ready;
-  if (!both_ready && now < slot.pending->ready_deadline) return;
+  const bool addressed = slot.role != core::Role::Requester || slot.addressed;
+  if (!(both_ready && addressed) && now < slot.pending->ready_deadline) return;
+  if (both_ready && !addressed) {
+    end_pending(slot, Outcome::Rejected, core::Reason::CounterpartBusy);
+    return;
+  }
   slot.pending->issued = true;  // set first: the step below may already resolve it
   const auto r = apply(slot, core::Event::Request, now);
   if (r.notice != core::Notice::RequestIssued && slot.pending) {
-    RequestResult result{Outcome::Rejected, r.reason, SteadyClock::now() - slot.pending->started};
-    auto pending = std::move(*slot.pending);
-    slot.pending.reset();
-    if (pending.callback) guard_callback("request result", [&] { pending.callback(result); });
+    end_pending(slot, Outcome::Rejected, r.reason);
   }
 }
 
+void EquipmentImpl::end_pending(ServiceSlot& slot, Outcome outcome, core::Reason reason) {
+  RequestResult result{outcome, reason, SteadyClock::now() - slot.pending->started};
+  auto pending = std::move(*slot.pending);
+  slot.pending.reset();
+  if (pending.callback) guard_callback("request result", [&] { pending.callback(result); });
+}
+
 SteadyClock::time_point EquipmentImpl::next_wake() const {
-  auto wake = next_silence_check();
+  auto wake = std::min(next_silence_check(), next_election());
   for (const auto& itf : interfaces) wake = std::min(wake, itf->model->next_deadline());
   for (const auto& s : slots) {
     if (s->pending && !s->pending->issued) wake = std::min(wake, s->pending->ready_deadline);
@@ -171,6 +186,7 @@ SteadyClock::time_point EquipmentImpl::next_wake() const {
 
 void EquipmentImpl::on_wake(SteadyClock::time_point now) {
   check_silence();
+  elect_due(now);
   for (auto& itf : interfaces) {
     // At most one limit per machine per on_tick; bounded loop for safety.
     for (int i = 0; i < 32 && itf->model->next_deadline() <= now; ++i) {

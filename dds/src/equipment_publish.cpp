@@ -274,6 +274,11 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
   s.service(topics::to_idl(slot.service));
   s.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
   s.state(topics::to_idl(itf.model->machine(slot.service, slot.role)->state()));
+  {
+    std::lock_guard<std::mutex> lock(binding_mutex);
+    s.paired_device_uuid(itf.cp_uuid);
+    s.paired_interface_id(itf.cp_interface);
+  }
   w.writer->write(s);
   wrote_interaction(g, slot.topic, w.seq);
   bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response, slot.topic);

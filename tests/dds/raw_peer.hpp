@@ -33,7 +33,10 @@ using detail::Writer;
 
 class RawPeer {
  public:
-  RawPeer(int domain, const std::string& uuid, core::SubType side, core::Service service)
+  // `paired_with`: the device whose interface mh1 it names as its pairing
+  // (a requester goes ACTIVE only toward a response that names it).
+  RawPeer(int domain, const std::string& uuid, core::SubType side, core::Service service,
+          const std::string& paired_with = "")
       : participant_(domain, qos::participant_qos(mtc::test::loopback<qos::ParticipantConfig>())),
         publisher_(participant_, {topics::device_partition(uuid)}),
         heartbeat_(participant_, publisher_, uuid),
@@ -46,6 +49,8 @@ class RawPeer {
         publisher_, *topic_, qos::state_topic().writer_qos(), listener_);
     sample_.device_uuid(uuid);
     sample_.interface_id("mh1");
+    sample_.paired_device_uuid(paired_with);
+    sample_.paired_interface_id(paired_with.empty() ? "" : "mh1");
     sample_.data_item_id(topics::interaction_item_id("mh1", service, side));
     sample_.service(topics::to_idl(service));
     sample_.sub_type(topics::to_idl(side));

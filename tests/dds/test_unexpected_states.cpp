@@ -50,7 +50,7 @@ TEST(UnexpectedStates, Scenario5ResponderLeavesActive) {
   cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-s5", "mh1"}});
   auto& req = cnc.add_requester("mh1", Service::MaterialUnload);
   cnc.start();
-  RawPeer robot(42, "robot-s5", SubType::Response, Service::MaterialUnload);
+  RawPeer robot(42, "robot-s5", SubType::Response, Service::MaterialUnload, "cnc-s5");
   robot.set(InteractionState::Ready);
   RequestOptions wait;
   wait.wait_for_ready = 10s;
@@ -72,7 +72,7 @@ TEST(UnexpectedStates, CompleteWithoutActiveIsAViolation) {
   cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-v", "mh1"}});
   auto& req = cnc.add_requester("mh1", Service::PartChange);
   cnc.start();
-  RawPeer robot(43, "robot-v", SubType::Response, Service::PartChange);
+  RawPeer robot(43, "robot-v", SubType::Response, Service::PartChange, "cnc-v");
   robot.set(InteractionState::Ready);
   RequestOptions wait;
   wait.wait_for_ready = 10s;

@@ -108,6 +108,10 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
   i.sample.device_uuid(device);
   i.sample.data_item_id(dds::detail::topics::interaction_item_id(interface_id, service, own_side));
   i.sample.interface_id(interface_id);
+  // Paired as the runtime would be: a requester goes ACTIVE only toward a
+  // response that names it (the counterpart's interface has our id).
+  i.sample.paired_device_uuid(counterpart);
+  i.sample.paired_interface_id(interface_id);
   i.sample.service(dds::detail::topics::to_idl(service));
   i.sample.sub_type(dds::detail::topics::to_idl(own_side));
   i.sample.state(dds::detail::topics::to_idl(core::InteractionState::NotReady));

@@ -100,10 +100,9 @@ TEST(InterfaceDisabled, DisabledRequesterDoesNotRequest) {
 }
 
 // --peer UUID/INTERFACE pins the pairing: a responder told to serve
-// robot-2/mh-b ignores a request of robot-1 (which times out, exit 4) and
-// serves robot-2. (Run one after the other: a requester that is not the
-// responder's peer, running while the peer's handshake runs, still reads
-// that handshake as its own; see docs/interaction-model.md, Pairing.)
+// robot-2/mh-b names it in its samples, so robot-1 is told at once that it
+// is left out (EXCLUDED, exit 7, the pairing named; never ACTIVE), and
+// robot-2 is served.
 TEST(Pairing, PeerOptionPinsTheCounterpartInterface) {
   constexpr int kDomain = 133;
   auto responder =
@@ -111,9 +110,12 @@ TEST(Pairing, PeerOptionPinsTheCounterpartInterface) {
                                 "MATERIAL_LOAD", "--peer", "robot-2/mh-b", "--action-ms", "100"});
   auto intruder = start_mtc("request", kDomain,
                             {"--device", "robot-1", "--interface", "mh", "--service",
-                             "MATERIAL_LOAD", "--counterpart", "machine-1", "--timeout", "3s"});
-  ASSERT_EQ(intruder->wait_exit(kHandshakeTimeout), 4) << intruder->transcript();
-  EXPECT_FALSE(contains(transitions(*intruder, 1), "response:ACTIVE")) << intruder->transcript();
+                             "MATERIAL_LOAD", "--counterpart", "machine-1", "--timeout", "30s"});
+  ASSERT_EQ(intruder->wait_exit(kHandshakeTimeout), 7) << intruder->transcript();
+  EXPECT_NE(intruder->stderr_text().find("robot-1/mh: machine-1/mh is paired with robot-2/mh-b"),
+            std::string::npos)
+      << intruder->transcript();
+  EXPECT_FALSE(contains(transitions(*intruder, 1), "request:ACTIVE")) << intruder->transcript();
   auto paired = start_mtc("request", kDomain,
                           {"--device", "robot-2", "--interface", "mh-b", "--service",
                            "MATERIAL_LOAD", "--peer", "machine-1/mh", "--timeout", "30s"});

@@ -55,8 +55,12 @@ Command request_command() {
       "printing every transition with its time since the request and the source ->\n"
       "reception latency of the counterpart's samples, then the outcome. A FAIL is\n"
       "recovered to READY (once the responder acknowledged it) before the next one.\n"
+      "A responder interface serves one requester interface (its pairing, named in its\n"
+      "samples): when it is paired with another, this one is EXCLUDED and told with whom\n"
+      "(stderr: 'robot-2/mh: machine-1/mh is paired with robot-1/mh').\n"
       "Exit: 0 all COMPLETE, 3 FAIL, 4 timeout, 5 counterpart lost, 6 counterpart\n"
-      "NOT_READY, 130 interrupted (first non-COMPLETE outcome decides).";
+      "NOT_READY, 7 excluded (the responder is paired with another requester; neither a\n"
+      "FAIL nor a protocol violation), 130 interrupted (first non-COMPLETE outcome decides).";
   spec.options = {
       {"count", "N", "number of handshakes, one after the other", "1"},
       {"timeout", "TIME", "per handshake, including waiting for the responder", "10s"},

@@ -30,6 +30,8 @@ Result to_result(const dds::RequestResult& r, core::InteractionState counterpart
       return Result::CommsLost;
     case dds::Outcome::Rejected:
       return counterpart == core::InteractionState::NotReady ? Result::NotReady : Result::Fail;
+    case dds::Outcome::Excluded:
+      return Result::Excluded;
   }
   return Result::Fail;
 }
@@ -135,7 +137,15 @@ void EquipmentLink::Impl::note_interface_state(const dds::ObservedValue& v) {
 void EquipmentLink::Impl::on_link(const dds::LinkEvent& l) {
   LinkEvent e;
   e.reception_time_ns = l.time_ns;
-  if (l.current == dds::LinkState::Lost && !lost) {
+  if (l.current == dds::LinkState::Excluded) {
+    e.kind = LinkEvent::Kind::Excluded;
+    e.detail = config.device_uuid + "/" + config.interface_id + ": " + l.cause;
+    events.push(std::move(e));
+  } else if (l.previous == dds::LinkState::Excluded) {
+    e.kind = LinkEvent::Kind::Readmitted;
+    e.detail = config.device_uuid + "/" + config.interface_id + ": " + l.cause;
+    events.push(std::move(e));
+  } else if (l.current == dds::LinkState::Lost && !lost) {
     lost = true;
     e.kind = LinkEvent::Kind::CounterpartLost;
     e.detail =
@@ -218,6 +228,7 @@ EquipmentLink::EquipmentLink(const EquipmentConfig& config, core::Role role, Eve
   options.security_dir = config.common.security_dir;
   options.faults.drop_data_percent = static_cast<std::uint8_t>(config.drop_percent);
   options.profile = config.profile;
+  options.pairing_settle = config.pairing_settle;
   // The tool has no partial actions to reset: clear every acknowledged FAIL.
   // A --not-ready responder clears FAIL itself, to NOT_READY (the runtime's
   // automatic recovery would make it READY).

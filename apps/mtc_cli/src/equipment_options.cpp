@@ -173,6 +173,10 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
                           "the counterpart's device uuid and interface id (instead of "
                           "--counterpart): pair with exactly that interface",
                           ""});
+  spec.options.push_back({"pairing-settle", "TIME",
+                          "without --counterpart/--peer: wait this long after the first candidate "
+                          "is announced, then pair with the lowest DEVICE/INTERFACE announced",
+                          "500ms"});
   spec.options.push_back({"transport", "KIND",
                           "network (UDP on every interface + SHM: the cell's hosts), loopback "
                           "(UDP 127.0.0.1 + SHM: this host only), loopback-udp, test",
@@ -221,6 +225,12 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
   parse_timing_options(args, c.timing);
   if (auto f = args.value("fail-ack-timeout")) {
     c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);
+  }
+  if (auto s = args.value("pairing-settle")) {
+    c.pairing_settle = to_duration("pairing-settle", *s);
+    if (c.pairing_settle > std::chrono::minutes(1)) {
+      throw UsageError("--pairing-settle must be at most 1m, got '" + *s + "'");
+    }
   }
   if (auto p = args.value("profile")) {
     c.profile = parse_profile(*p);

@@ -33,6 +33,7 @@ struct EquipmentConfig {
   qos::Timing timing;    // --heartbeat-ms, --missed-heartbeats
   int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
   std::chrono::milliseconds fail_ack_timeout{2000};
+  std::chrono::milliseconds pairing_settle{500};  // dds::EquipmentOptions::pairing_settle
   // --profile: the edition of Part 5 the machines follow (1.6 also covers 1.8).
   core::Profile profile = core::Profile::V1_6;
   // --disabled: publish INTERFACE_STATE DISABLED, which makes every

@@ -12,6 +12,7 @@ enum ExitCode : int {
   ExitTimeout = 4,       // no outcome (or no counterpart) within --timeout
   ExitCommsLost = 5,     // counterpart lost (liveliness/heartbeat) during a handshake
   ExitNotReady = 6,      // counterpart NOT_READY, request refused
+  ExitExcluded = 7,      // the responder interface is paired with another requester
   ExitInterrupted = 130  // stopped by SIGINT/SIGTERM before finishing
 };
 

@@ -20,6 +20,8 @@ std::string_view to_string(Result r) {
       return "NOT_READY";
     case Result::Interrupted:
       return "INTERRUPTED";
+    case Result::Excluded:
+      return "EXCLUDED";
   }
   return "FAIL";
 }
@@ -38,6 +40,8 @@ int exit_code(Result r) {
       return ExitNotReady;
     case Result::Interrupted:
       return ExitInterrupted;
+    case Result::Excluded:
+      return ExitExcluded;
   }
   return ExitError;
 }

@@ -18,7 +18,16 @@
 namespace mtc::cli {
 
 // How one handshake ended, as the tool reports it.
-enum class Result : std::uint8_t { Complete, Fail, Timeout, CommsLost, NotReady, Interrupted };
+// Excluded: the responder interface serves another requester (its pairing).
+enum class Result : std::uint8_t {
+  Complete,
+  Fail,
+  Timeout,
+  CommsLost,
+  NotReady,
+  Interrupted,
+  Excluded
+};
 
 struct LinkEvent {
   enum class Kind : std::uint8_t {
@@ -30,6 +39,8 @@ struct LinkEvent {
     RequestObserved,      // responder: the request went ACTIVE, accept() or not
     RequestDone,          // requester: the runtime's outcome of request()
     Aborted,              // responder: the service in progress ended without complete()
+    Excluded,             // the counterpart is paired with another (detail says with whom)
+    Readmitted,           // it names us (or nobody) again
   };
   Kind kind = Kind::Notice;
   core::Service service = core::Service::MaterialLoad;

@@ -69,9 +69,9 @@ bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
       done_ = event.result;
       break;
     case LinkEvent::Kind::Notice:
-      if (!event.detail.empty()) {
-        context_.err.line("mtc request: " + event.detail);
-      }
+    case LinkEvent::Kind::Excluded:
+    case LinkEvent::Kind::Readmitted:
+      on_notice(event);
       break;
     case LinkEvent::Kind::RequestObserved:
     case LinkEvent::Kind::Aborted:
@@ -83,12 +83,36 @@ bool RequestRunner::next_event(TimePoint deadline, LinkEvent& event) {
   return true;
 }
 
+// A diagnostic; or the responder paired with another requester, or with us
+// (or nobody) again.
+void RequestRunner::on_notice(const LinkEvent& event) {
+  if (event.kind == LinkEvent::Kind::Notice) {
+    if (!event.detail.empty()) {
+      context_.err.line("mtc request: " + event.detail);
+    }
+    return;
+  }
+  if (event.kind == LinkEvent::Kind::Readmitted) {
+    excluded_.clear();
+    trace_.note("readmitted", event.detail);
+    return;
+  }
+  // detail: "robot-2/mh: machine-1/mh is paired with robot-1/mh"
+  const auto colon = event.detail.find(": ");
+  excluded_ = colon == std::string::npos ? event.detail : event.detail.substr(colon + 2);
+  trace_.note("excluded", event.detail);
+  context_.err.line("mtc request: " + event.detail);
+}
+
 Result RequestRunner::wait_until_ready(TimePoint deadline) {
   if (config_.equipment.disabled) {
     return Result::NotReady;  // our own request stays NOT_READY while DISABLED
   }
   LinkEvent e;
   while (!(own_ == InteractionState::Ready && peer_ == InteractionState::Ready)) {
+    if (!excluded_.empty()) {
+      return Result::Excluded;
+    }
     if (own_ == InteractionState::Fail) {
       try_recover();
     }
@@ -193,7 +217,7 @@ double percentile(std::vector<double> v, double p) {
 }  // namespace
 
 void RequestRunner::print_summary() {
-  std::uint64_t counts[6] = {0, 0, 0, 0, 0, 0};
+  std::uint64_t counts[7] = {0, 0, 0, 0, 0, 0, 0};
   for (auto r : results_) {
     ++counts[static_cast<int>(r)];
   }
@@ -211,6 +235,7 @@ void RequestRunner::print_summary() {
         .field("timeout", counts[2])
         .field("comms_lost", counts[3])
         .field("not_ready", counts[4])
+        .field("excluded", counts[6])
         .field("p50_ms", p50)
         .field("p99_ms", p99)
         .field("max_ms", max)
@@ -222,8 +247,9 @@ void RequestRunner::print_summary() {
   context_.out.line(
       std::to_string(results_.size()) + " handshake(s): " + std::to_string(counts[0]) +
       " COMPLETE, " + std::to_string(counts[1]) + " FAIL, " + std::to_string(counts[2]) +
-      " TIMEOUT, " + std::to_string(counts[3]) + " COMMS_LOST; time to COMPLETE p50 " +
-      format_ms(static_cast<std::int64_t>(p50 * 1e6)) + ", p99 " +
+      " TIMEOUT, " + std::to_string(counts[3]) + " COMMS_LOST" +
+      (counts[6] != 0 ? ", " + std::to_string(counts[6]) + " EXCLUDED" : std::string()) +
+      "; time to COMPLETE p50 " + format_ms(static_cast<std::int64_t>(p50 * 1e6)) + ", p99 " +
       format_ms(static_cast<std::int64_t>(p99 * 1e6)) + ", max " +
       format_ms(static_cast<std::int64_t>(max * 1e6)) + "; request ACTIVE -> response ACTIVE p50 " +
       format_ms(static_cast<std::int64_t>(accept_p50 * 1e6)) + ", p99 " +
@@ -248,6 +274,9 @@ int RequestRunner::run() {
     } else if (result == Result::Timeout) {
       reason = "responder not READY within --timeout";
     }
+    if (result == Result::Excluded) {
+      reason = excluded_.empty() ? "the responder is paired with another requester" : excluded_;
+    }
     if (result == Result::Fail && reason.empty()) {
       reason = last_reason_ != core::Reason::None
                    ? std::string(core::describe(last_reason_))
@@ -271,7 +300,8 @@ int RequestRunner::run() {
     if (result == Result::Interrupted) {
       break;
     }
-    if (result != Result::CommsLost || more) {
+    // Excluded: nothing to close with a responder that never read us.
+    if ((result != Result::CommsLost && result != Result::Excluded) || more) {
       close_cycle(Clock::now() + config_.timeout, !more);
     }
     if (!more) {

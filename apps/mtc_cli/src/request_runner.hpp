@@ -36,6 +36,7 @@ class RequestRunner {
   // Pops one event (or nothing by the deadline), tracks states, prints
   // transitions. False when the deadline passed or shutdown was requested.
   bool next_event(TimePoint deadline, LinkEvent& event);
+  void on_notice(const LinkEvent& event);
   Result wait_until_ready(TimePoint deadline);
   Result handshake(TimePoint deadline);
   void inject(const FailDecision& decision);
@@ -53,6 +54,9 @@ class RequestRunner {
   core::InteractionState own_ = core::InteractionState::Unavailable;
   core::InteractionState peer_ = core::InteractionState::Unavailable;
   bool peer_lost_ = false;
+  // The responder serves another requester: why ("machine-1/mh is paired
+  // with robot-1/mh"), empty while it names us or nobody.
+  std::string excluded_;
   std::optional<Result> done_;  // the runtime's outcome of the current request()
   core::Reason last_reason_ = core::Reason::None;
   TimePoint failed_at_{};

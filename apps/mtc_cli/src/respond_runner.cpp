@@ -123,7 +123,8 @@ void RespondRunner::on_event(const LinkEvent& e) {
     on_peer_link(e);
     return;
   }
-  if (e.kind == LinkEvent::Kind::Notice && !e.detail.empty()) {
+  const bool pairing = e.kind == LinkEvent::Kind::Excluded || e.kind == LinkEvent::Kind::Readmitted;
+  if ((e.kind == LinkEvent::Kind::Notice || pairing) && !e.detail.empty()) {
     context_.err.line("mtc respond: " + e.detail);
     return;
   }

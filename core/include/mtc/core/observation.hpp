@@ -112,6 +112,10 @@ struct ObservedValue {
   bool redelivered = false;            // true: last known value again, not a new sample
   std::int64_t source_time_ns = 0;     // writer clock, ns since the epoch
   std::int64_t reception_time_ns = 0;  // local clock at reception
+  // Interaction items: the counterpart (device uuid, interface id) the
+  // writing interface was paired with; empty: not paired yet.
+  std::string paired_device_uuid;
+  std::string paired_interface_id;
 
   ItemKind kind() const noexcept { return state.kind(); }
 };

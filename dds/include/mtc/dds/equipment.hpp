@@ -69,6 +69,10 @@ enum class Outcome : std::uint8_t {
   TimedOut,   // a configured time limit expired (core::TimeLimits)
   CommsLost,  // the counterpart was lost while the request was ACTIVE
   Rejected,   // the request was not issued (reason says why: NotReady, CounterpartBusy...)
+  // The responder interface is paired with another requester (LinkState::
+  // Excluded; the LinkEvent's cause names the pairing): not served, and not
+  // a failure of either side. Withdrawn at once if it was already ACTIVE.
+  Excluded,
 };
 std::string_view to_string(Outcome o) noexcept;
 
@@ -84,10 +88,15 @@ struct RequestOptions {
   std::chrono::milliseconds wait_for_ready{0};
 };
 
-// Which device/interface one of our interfaces pairs with. Empty fields are
-// discovered: the first device (with that uuid, if given) that announces an
-// interface of the same type (with that id, if given) carrying the opposite
-// side of one of our services.
+// Which device/interface one of our interfaces pairs with. Both fields
+// given: exactly that interface. Only the device uuid: the first interface of
+// that device, announced or heard from, of the same type (with that id, if
+// given) carrying the opposite side of one of our services. Neither: the
+// pairing rule (docs/interaction-model.md, Pairing): every such interface
+// announced within EquipmentOptions::pairing_settle of the first one is a
+// candidate, the lowest (device uuid, interface id) wins, and the pairing
+// holds until that device leaves (disposes its instances on a graceful end;
+// a lost one is waited for, scenario 6).
 struct CounterpartSpec {
   std::string device_uuid;
   std::string interface_id;
@@ -148,6 +157,11 @@ enum class LinkState : std::uint8_t {
   Paired,    // counterpart known, none of its values seen yet
   Up,        // counterpart values arriving
   Lost,      // liveliness/deadline lost, disposed, or its INTERFACE_STATE UNAVAILABLE
+  // The counterpart interface is paired with another device/interface (its
+  // interaction samples name it; cause: "machine-1/mh is paired with
+  // robot-1/mh"): its values are not ours, nothing is requested or served.
+  // Up again when it names this interface (or nobody).
+  Excluded,
 };
 std::string_view to_string(LinkState s) noexcept;
 
@@ -204,6 +218,10 @@ struct EquipmentOptions {
   // DDS-Security identity of this device (scripts/security/make-pki.sh);
   // empty: unsecured. A bad directory is a ConfigError naming the file.
   std::string security_dir;
+  // Interfaces paired by rule (no counterpart device configured) wait this
+  // long after the first candidate's announcement before choosing, so that
+  // counterparts started together are all candidates (0..60 s).
+  std::chrono::milliseconds pairing_settle{500};
 };
 
 class Equipment;
