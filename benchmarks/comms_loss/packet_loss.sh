@@ -62,13 +62,13 @@ status=0
 IFS=, read -r -a rates <<<"$percents"
 for p in "${rates[@]}"; do
   fastdds shm clean >/dev/null 2>&1 || true
-  start=$(date +%s.%N)
+  start=$EPOCHREALTIME
   # transport-guard: pair.sh gives both its commands --transport loopback.
   "$root/scripts/netns-run.sh" bash "$work/pair.sh" "$mtc" "$domain" "$count" "$p" "$work/run-$p"
-  wall=$(echo "$(date +%s.%N) - $start" | bc)
-  run=$(python3 - "$work/run-$p.request" "$p" "$count" "$wall" <<'EOF'
+  run=$(python3 - "$work/run-$p.request" "$p" "$count" "$start" "$EPOCHREALTIME" <<'EOF'
 import json, sys
-path, percent, count, wall = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
+path, percent, count = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+wall = float(sys.argv[5]) - float(sys.argv[4])
 outcomes, summary = [], {}
 for line in open(path):
     try:
