@@ -67,7 +67,6 @@ struct DomainObserver::Impl {
   // participant lease) must not turn the current one's items UNAVAILABLE.
   std::map<std::string, detail::ParticipantKey> incarnation;
   detail::DeviceOwners owners;  // who speaks for each device (no DDS-Security)
-  std::set<std::pair<Handle, std::size_t>> violations_reported;  // (writer, interaction topic)
 
   mutable std::mutex devices_mutex;
   std::map<std::string, ObservedDevice> devices;
@@ -357,8 +356,7 @@ struct DomainObserver::Impl {
   // handed on as a value.
   void handle(detail::ProtocolViolationEvent& e) {
     if (!wanted(e.value.device_uuid)) return;
-    if (!violations_reported.insert({e.writer, e.topic}).second) return;
-    protocol_violation(e.value.device_uuid, detail::protocol_violation(e));
+    if (auto report = peer_checks.refused(e)) protocol_violation(e.value.device_uuid, *report);
   }
   static void handle(detail::IncompatibleQosEvent& e) {
     std::cerr << "mtc::dds::DomainObserver: a writer on " << detail::topic_name(e.topic)

@@ -37,9 +37,7 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
           on_deadline_missed(group);
         } else if constexpr (std::is_same_v<T, detail::ProtocolViolationEvent>) {
           // Never a transition; one report per writer and topic.
-          if (violations_reported.insert({e.writer, e.topic}).second) {
-            diagnostic(detail::protocol_violation(e));
-          }
+          if (auto report = peer_checks.refused(e)) diagnostic(*report);
         } else {
           // Once per topic and group: with several timings, a fast group's
           // readers never match a slow group's writers, by design.

@@ -185,8 +185,6 @@ struct EquipmentImpl {
   std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
   detail::PeerGroups peer_groups;
   detail::PeerChecks peer_checks;  // what a peer writes that the types cannot forbid
-  // Protocol violations already reported: (writer, interaction topic).
-  std::set<std::pair<detail::Handle, std::size_t>> violations_reported;
   // The last value of every item of every device our readers saw, paired or
   // not: an interface that pairs later starts from what is already known
   // (items are written on change only; nothing else would bring them).

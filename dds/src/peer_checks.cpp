@@ -1,5 +1,7 @@
 #include "peer_checks.hpp"
 
+#include <limits>
+
 namespace mtc::dds::detail {
 
 namespace {
@@ -60,7 +62,14 @@ PeerChecks::Verdict PeerChecks::check(std::size_t group, const Handle& writer,
   return verdict;
 }
 
+std::optional<std::string> PeerChecks::refused(const ProtocolViolationEvent& event) {
+  if (!refused_.insert({event.writer, event.topic}).second) return std::nullopt;
+  return protocol_violation(event);
+}
+
 void PeerChecks::forget_writer(const Handle& writer) {
+  refused_.erase(refused_.lower_bound({writer, 0}),
+                 refused_.lower_bound({writer, std::numeric_limits<std::size_t>::max()}));
   for (auto it = newest_.lower_bound(GroupItemKey{writer, 0, std::string()});
        it != newest_.end() && std::get<0>(it->first) == writer;) {
     it = newest_.erase(it);

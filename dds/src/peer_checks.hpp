@@ -8,7 +8,9 @@
 //   - a change number that goes back for the same writer and item (a
 //     writer's counter only grows; a restarted device is a new writer), or
 //     that leaps ahead by more than any real writer could change between
-//     two deliveries (a counter jumped to the maximum).
+//     two deliveries (a counter jumped to the maximum);
+//   - a sample whose service or side disagrees with its interaction topic
+//     (the tap refuses it; refused() says so once per writer and topic).
 // Each rule is reported once per writer and item, so a peer that floods the
 // topic cannot flood the log as well; the value itself is still handled as
 // the rules below say (check()'s verdict).
@@ -18,6 +20,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -41,6 +44,9 @@ class PeerChecks {
   // `group`: the local timing group whose reader delivered the sample (each
   // group's reader sees every sample, and each checks its own copy).
   Verdict check(std::size_t group, const Handle& writer, const ObservedValue& value);
+  // A sample the tap refused (its service or side disagrees with its
+  // interaction topic): the report the first time per writer and topic.
+  std::optional<std::string> refused(const ProtocolViolationEvent& event);
   // Drops what is known of a writer that left.
   void forget_writer(const Handle& writer);
 
@@ -57,6 +63,7 @@ class PeerChecks {
   };
   std::map<GroupItemKey, std::uint64_t> newest_;
   std::map<ItemKey, Reported> reported_;
+  std::set<std::pair<Handle, std::size_t>> refused_;  // writer, interaction topic
 };
 
 }  // namespace mtc::dds::detail
