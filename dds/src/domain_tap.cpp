@@ -5,6 +5,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "mtc/dds/detail/return_code.hpp"
+#include "mtc/dds/detail/sample_decoding.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
@@ -222,6 +223,22 @@ ObservedDevice to_observed(const idl::DeviceDescription& d) {
     out.interfaces.push_back(std::move(oi));
   }
   return out;
+}
+
+ObservedValue decode_sample(const idl::InteractionSample& sample) {
+  return observe(sample);
+}
+ObservedValue decode_sample(const idl::InterfaceStateSample& sample) {
+  return observe(sample);
+}
+ObservedValue decode_sample(const idl::DoorStateSample& sample) {
+  return observe(sample);
+}
+ObservedValue decode_sample(const idl::ChuckStateSample& sample) {
+  return observe(sample);
+}
+ObservedDevice decode_sample(const idl::DeviceDescription& sample) {
+  return to_observed(sample);
 }
 
 const char* topic_name(TopicKind kind) noexcept {
