@@ -176,7 +176,7 @@ template <typename PubSub>
 bool from_wire(mtc::fuzz::ByteReader& in, typename PubSub::type& sample) {
   const std::string bytes = in.string();
   eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
-  std::memcpy(payload.data, bytes.data(), bytes.size());
+  if (!bytes.empty()) std::memcpy(payload.data, bytes.data(), bytes.size());
   payload.length = static_cast<std::uint32_t>(bytes.size());
   idl::SpecKeyType<PubSub> type;
   return type.deserialize(&payload, &sample);
