@@ -139,5 +139,19 @@ TEST(HostileText, StatesOutsideTheVocabularyReadUnavailable) {
   EXPECT_EQ(back.text("//DeviceStream[@uuid='robot-0001']//MaterialLoad"), "ACTIVE");
 }
 
+// Found by tests/fuzz (fuzz_bridge_config): a sender that is not UTF-8
+// reached the 2.0 probe's Agent uuid as it was. The config refuses one now;
+// a program that sets AgentOptions itself still gets valid documents.
+TEST(HostileText, ASenderThatIsNotUtf8KeepsTheProbeValid) {
+  AgentOptions options = test::cell_options(SchemaVersion::V2_0, 64);
+  options.sender = "cell\xA6";
+  auto agent = make_agent(options);
+  agent->add_device(test::robot());
+  const Response probe = test::get(*agent, "/probe");
+  EXPECT_EQ(find_unfit_xml_char(probe.body), std::string::npos);
+  const test::Lint lint = xmllint(probe.body, schema("MTConnectDevices", SchemaVersion::V2_0));
+  EXPECT_EQ(lint.exit_code, 0) << lint.output << "\n" << probe.body.substr(0, 2000);
+}
+
 }  // namespace
 }  // namespace mtc::bridge
