@@ -3,24 +3,40 @@
 # whole suite inside a loopback-only network namespace. Fails loudly: any
 # failed, skipped or missing test makes the exit code non-zero.
 #
-# Usage: scripts/test.sh [ctest selection] [-- any ctest options]
+# Usage: scripts/test.sh [--sanitize asan|tsan] [ctest selection] [-- any ctest options]
+#   --sanitize asan         the suite built with clang, ASan+UBSan and the
+#                           libFuzzer targets (default build dir build-asan);
+#                           adds the short fuzz runs (label fuzz)
+#   --sanitize tsan         the suite built with clang and TSan (build-tsan)
+#                           Both leave out the 4-minute endurance run (label
+#                           endurance): the ordinary run covers it.
 #   -R REGEX / -E REGEX     only / not the tests whose name matches
 #   -L REGEX / -LE REGEX    only / not the tests whose label matches (cli, dds, ...)
 #   --repeat MODE:N         e.g. until-fail:5
 #   -V, -VV, -N             verbose, extra verbose, list only
-# Environment: MTC_BUILD_DIR (default <repo>/build), MTC_TEST_JOBS (default 2);
-# the build is scripts/build.sh's (same configuration as ./scripts/start.sh).
+# Environment: MTC_BUILD_DIR (default <repo>/build), MTC_TEST_JOBS (default 2),
+# MTC_FUZZ_SECONDS (each fuzz run, default 45); the build is scripts/build.sh's
+# (same configuration as ./scripts/start.sh).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="${MTC_BUILD_DIR:-$root/build}"
 
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 # ctest ignores options it does not know and runs everything: check here.
 ctest_args=()
+sanitize=""
+exclude_labels=""
 while [ $# -gt 0 ]; do
   case "$1" in
     -h | --help) usage; exit 0 ;;
-    -R | -E | -L | -LE | --repeat)
+    --sanitize)
+      case "${2:-}" in
+        asan | tsan) sanitize="$2"; shift 2 ;;
+        *) echo "test.sh: --sanitize needs asan or tsan" >&2; usage >&2; exit 2 ;;
+      esac ;;
+    -LE)
+      [ $# -ge 2 ] || { echo "test.sh: $1 needs a value" >&2; usage >&2; exit 2; }
+      exclude_labels="$2"; shift 2 ;;
+    -R | -E | -L | --repeat)
       [ $# -ge 2 ] || { echo "test.sh: $1 needs a value" >&2; usage >&2; exit 2; }
       ctest_args+=("$1" "$2"); shift 2 ;;
     -V | -VV | -N) ctest_args+=("$1"); shift ;;
@@ -29,7 +45,23 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-"$root/scripts/build.sh"
+if [ -z "$sanitize" ]; then
+  build="${MTC_BUILD_DIR:-$root/build}"
+  [ -z "$exclude_labels" ] || ctest_args+=(-LE "$exclude_labels")
+  MTC_BUILD_DIR="$build" "$root/scripts/build.sh"
+else
+  build="${MTC_BUILD_DIR:-$root/build-$sanitize}"
+  ctest_args+=(-LE "^endurance\$${exclude_labels:+|$exclude_labels}")
+  MTC_BUILD_DIR="$build" MTC_WERROR="${MTC_WERROR:-ON}" MTC_SANITIZE="$sanitize" \
+    "$root/scripts/build.sh"
+  # Reports fail the test that made them; suppressions (Fast DDS internals
+  # only) carry their reasons in tests/sanitizers/.
+  supp="$root/tests/sanitizers"
+  export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+  export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+  export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+  export TSAN_OPTIONS="suppressions=$supp/tsan.supp:halt_on_error=1:second_deadlock_stack=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
+fi
 
 # Stale shared-memory segments of killed participants would confuse SHM
 # transport tests; clear those of earlier runs.
