@@ -30,6 +30,9 @@ elseif(NOT MTC_SANITIZE STREQUAL "")
   message(FATAL_ERROR "MTC_SANITIZE must be address, thread or empty, not '${MTC_SANITIZE}'")
 endif()
 
+# What a program built outside this tree needs to link these libraries
+# (tests/install builds such programs), as one string.
+string(JOIN " " MTC_SANITIZE_FLAGS ${mtc_sanitize_flags})
 if(mtc_sanitize_flags)
   # -O1 keeps the instrumented suite fast enough for CI and the stacks readable.
   add_compile_options(${mtc_sanitize_flags} -fno-omit-frame-pointer -O1)
