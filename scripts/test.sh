@@ -9,7 +9,9 @@
 #                           adds the short fuzz runs (label fuzz)
 #   --sanitize tsan         the suite built with clang and TSan (build-tsan)
 #                           Both leave out the 4-minute endurance run (label
-#                           endurance): the ordinary run covers it.
+#                           endurance) and the resident-memory bounds
+#                           (AbuseMemory.*: the sanitizers' allocators keep
+#                           freed memory on purpose); the ordinary run has them.
 #   -R REGEX / -E REGEX     only / not the tests whose name matches
 #   -L REGEX / -LE REGEX    only / not the tests whose label matches (cli, dds, ...)
 #   --repeat MODE:N         e.g. until-fail:5
@@ -25,6 +27,7 @@ usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' 
 ctest_args=()
 sanitize=""
 exclude_labels=""
+exclude_names=""
 while [ $# -gt 0 ]; do
   case "$1" in
     -h | --help) usage; exit 0 ;;
@@ -36,7 +39,10 @@ while [ $# -gt 0 ]; do
     -LE)
       [ $# -ge 2 ] || { echo "test.sh: $1 needs a value" >&2; usage >&2; exit 2; }
       exclude_labels="$2"; shift 2 ;;
-    -R | -E | -L | --repeat)
+    -E)
+      [ $# -ge 2 ] || { echo "test.sh: $1 needs a value" >&2; usage >&2; exit 2; }
+      exclude_names="$2"; shift 2 ;;
+    -R | -L | --repeat)
       [ $# -ge 2 ] || { echo "test.sh: $1 needs a value" >&2; usage >&2; exit 2; }
       ctest_args+=("$1" "$2"); shift 2 ;;
     -V | -VV | -N) ctest_args+=("$1"); shift ;;
@@ -48,10 +54,12 @@ done
 if [ -z "$sanitize" ]; then
   build="${MTC_BUILD_DIR:-$root/build}"
   [ -z "$exclude_labels" ] || ctest_args+=(-LE "$exclude_labels")
+  [ -z "$exclude_names" ] || ctest_args+=(-E "$exclude_names")
   MTC_BUILD_DIR="$build" "$root/scripts/build.sh"
 else
   build="${MTC_BUILD_DIR:-$root/build-$sanitize}"
   ctest_args+=(-LE "^endurance\$${exclude_labels:+|$exclude_labels}")
+  ctest_args+=(-E "^AbuseMemory\\.${exclude_names:+|$exclude_names}")
   MTC_BUILD_DIR="$build" MTC_WERROR="${MTC_WERROR:-ON}" MTC_SANITIZE="$sanitize" \
     "$root/scripts/build.sh"
   # Reports fail the test that made them; suppressions (Fast DDS internals
