@@ -65,7 +65,11 @@ else
   # Reports fail the test that made them; suppressions (Fast DDS internals
   # only) carry their reasons in tests/sanitizers/.
   supp="$root/tests/sanitizers"
-  export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+  # new_delete_type_mismatch=0: Fast DDS 2.9 frees an object that
+  # StatisticsReaderImpl allocated (64 bytes) through a 56-byte type in
+  # RTPSReader::~RTPSReader, inside libfastrtps, on every reader's deletion;
+  # ASan has no suppression for this check other than turning it off.
+  export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:new_delete_type_mismatch=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
   export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
   export TSAN_OPTIONS="suppressions=$supp/tsan.supp:halt_on_error=1:second_deadlock_stack=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
