@@ -139,17 +139,18 @@ TEST(HostileText, StatesOutsideTheVocabularyReadUnavailable) {
   EXPECT_EQ(back.text("//DeviceStream[@uuid='robot-0001']//MaterialLoad"), "ACTIVE");
 }
 
-// Found by tests/fuzz (fuzz_bridge_config): a sender that is not UTF-8
-// reached the 2.0 probe's Agent uuid as it was. The config refuses one now;
-// a program that sets AgentOptions itself still gets valid documents.
+// Found by tests/fuzz (fuzz_bridge_config): a Sender that is not UTF-8 was
+// accepted, and the 1.8 probe printed it raw in its Agent's uuid. The config
+// refuses one now; a program that sets AgentOptions itself still gets valid
+// documents.
 TEST(HostileText, ASenderThatIsNotUtf8KeepsTheProbeValid) {
-  AgentOptions options = test::cell_options(SchemaVersion::V2_0, 64);
+  AgentOptions options = test::cell_options(SchemaVersion::V1_8, 64);
   options.sender = "cell\xA6";
   auto agent = make_agent(options);
   agent->add_device(test::robot());
   const Response probe = test::get(*agent, "/probe");
   EXPECT_EQ(find_unfit_xml_char(probe.body), std::string::npos) << probe.body.substr(0, 2000);
-  // (Not xmllint: the 2.0 Devices XSD lacks MaterialHandlerInterface.)
+  // (Not xmllint: only 1.6's schemas accept every interface type.)
   test::Doc d(probe.body);
   ASSERT_TRUE(d.ok);
   EXPECT_EQ(d.count("//*[local-name()='Agent' and @uuid='cell\xEF\xBF\xBD-agent']"), 1U);
