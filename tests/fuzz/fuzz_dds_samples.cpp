@@ -64,7 +64,7 @@ void check_header(const Sample& s, const core::ObservedValue& v) {
   require(v.data_item_id == s.data_item_id().to_string(), "data_item_id changed");
   require(v.interface_id == s.interface_id().to_string(), "interface_id changed");
   require(v.sequence_number == s.sequence_number(), "sequence_number changed");
-  require(v.heartbeat_count == s.heartbeat_count(), "heartbeat_count changed");
+  require(v.heartbeat_group == s.heartbeat_group(), "heartbeat_group changed");
   require(v.source_time_ns == s.source_time_ns(), "source_time_ns changed");
 }
 
@@ -139,7 +139,7 @@ void fill_header(Sample& s, mtc::fuzz::ByteReader& in) {
   s.data_item_id(text(in));
   s.interface_id(text(in));
   s.sequence_number(in.integer<std::uint64_t>());
-  s.heartbeat_count(in.integer<std::uint8_t>() < 200 ? 0 : in.integer<std::uint64_t>());
+  s.heartbeat_group(in.integer<std::uint8_t>() < 200 ? 0 : in.integer<std::uint32_t>());
   s.source_time_ns(in.integer<std::int64_t>());
 }
 
