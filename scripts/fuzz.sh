@@ -81,8 +81,15 @@ done
 
 build="${MTC_BUILD_DIR:-$root/build-asan}"
 "$root/scripts/setup-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DMTC_SANITIZE=address -DMTC_FUZZ=ON \
-  -DMTC_WERROR="${MTC_WERROR:-OFF}" >/dev/null
+# The compiler only when the folder is new: naming it again on a configured
+# folder may make cmake drop its cache, and a changed MTC_WERROR recompiles
+# the tree (scripts/build.sh keeps a configuration the same way).
+config=(-DMTC_SANITIZE=address -DMTC_FUZZ=ON)
+[ -f "$build/CMakeCache.txt" ] || config+=(-DCMAKE_CXX_COMPILER=clang++)
+if [ -n "${MTC_WERROR:-}" ] || [ ! -f "$build/CMakeCache.txt" ]; then
+  config+=(-DMTC_WERROR="${MTC_WERROR:-ON}")
+fi
+cmake -S "$root" -B "$build" "${config[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)" --target "${names[@]/#/fuzz_}"
 for name in "${names[@]}"; do
   dict=()
