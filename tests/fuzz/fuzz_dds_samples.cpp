@@ -5,8 +5,10 @@
 // the readers register). Every sample goes through the decoding the
 // readers' listeners apply (mtc::dds::detail::decode_sample), which must
 // keep every field and keep a state outside the vocabulary distinguishable;
-// then into an MTConnect agent as DomainObserver feeds it, whose documents
-// must stay XML whatever the peers announced.
+// then through what the runtime does next (receive_path.hpp: the tap's topic
+// rule, the peer checks), whose verdicts must follow the stated rules; what
+// goes on reaches an MTConnect agent as DomainObserver feeds it, whose
+// documents must stay XML whatever the peers announced.
 #include <fastdds/rtps/common/SerializedPayload.h>
 
 #include <cstddef>
@@ -24,6 +26,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "receive_path.hpp"
 
 namespace {
 
@@ -66,6 +69,11 @@ void check_header(const Sample& s, const core::ObservedValue& v) {
   require(v.sequence_number == s.sequence_number(), "sequence_number changed");
   require(v.heartbeat_group == s.heartbeat_group(), "heartbeat_group changed");
   require(v.source_time_ns == s.source_time_ns(), "source_time_ns changed");
+  if constexpr (std::is_same_v<Sample, idl::InteractionSample>) {
+    require(v.paired_device_uuid == s.paired_device_uuid().to_string(), "paired device changed");
+    require(v.paired_interface_id == s.paired_interface_id().to_string(),
+            "paired interface changed");
+  }
 }
 
 // The state as decoded: known numbers map back to themselves, others stay
@@ -182,8 +190,14 @@ bool from_wire(mtc::fuzz::ByteReader& in, typename PubSub::type& sample) {
   return type.deserialize(&payload, &sample);
 }
 
+// One cell seen by one runtime: the receive path's state and the agent.
+struct Receiver {
+  mtc::fuzz::ReceivePath path;
+  std::unique_ptr<mtc::bridge::MtconnectAgent> agent;
+};
+
 template <typename Sample, typename PubSub>
-void value_op(mtc::fuzz::ByteReader& in, bool wire, mtc::bridge::MtconnectAgent& agent) {
+void value_op(mtc::fuzz::ByteReader& in, bool wire, Receiver& to) {
   Sample s;
   if (wire) {
     if (!from_wire<PubSub>(in, s)) return;
@@ -192,16 +206,25 @@ void value_op(mtc::fuzz::ByteReader& in, bool wire, mtc::bridge::MtconnectAgent&
     if constexpr (std::is_same_v<Sample, idl::InteractionSample>) {
       s.service(number<idl::services::Service>(in));
       s.sub_type(number<idl::sub_types::SubType>(in));
+      s.paired_device_uuid(text(in));
+      s.paired_interface_id(text(in));
     }
     s.state(number<std::decay_t<decltype(s.state())>>(in));
   }
-  agent.add_value(decoded(s));
+  // Which writer sent it, which local group's reader got it, and on which
+  // interaction topic (one per service and side) it arrived.
+  const std::uint8_t writer = in.byte() % mtc::fuzz::ReceivePath::kWriters;
+  const std::size_t group = in.byte() % mtc::fuzz::ReceivePath::kGroups;
+  const std::size_t topic = in.byte() % mtc::dds::detail::kInteractionTopicCount;
+  const auto value = decoded(s);
+  if (to.path.receive(writer, group, topic, value)) to.agent->add_value(value);
 }
 
-void run_op(mtc::fuzz::ByteReader& in, mtc::bridge::MtconnectAgent& agent) {
+void run_op(mtc::fuzz::ByteReader& in, Receiver& to) {
+  auto& agent = *to.agent;
   const std::uint8_t op = in.byte();
   const bool wire = (op & 0x80) != 0;
-  switch (op % 7) {
+  switch (op % 8) {
     case 0: {
       idl::DeviceDescription d;
       if (wire) {
@@ -213,22 +236,23 @@ void run_op(mtc::fuzz::ByteReader& in, mtc::bridge::MtconnectAgent& agent) {
       return;
     }
     case 1:
-      return value_op<idl::InteractionSample, idl::InteractionSamplePubSubType>(in, wire, agent);
+      return value_op<idl::InteractionSample, idl::InteractionSamplePubSubType>(in, wire, to);
     case 2:
-      return value_op<idl::InterfaceStateSample, idl::InterfaceStateSamplePubSubType>(in, wire,
-                                                                                      agent);
+      return value_op<idl::InterfaceStateSample, idl::InterfaceStateSamplePubSubType>(in, wire, to);
     case 3:
-      return value_op<idl::DoorStateSample, idl::DoorStateSamplePubSubType>(in, wire, agent);
+      return value_op<idl::DoorStateSample, idl::DoorStateSamplePubSubType>(in, wire, to);
     case 4:
-      return value_op<idl::ChuckStateSample, idl::ChuckStateSamplePubSubType>(in, wire, agent);
+      return value_op<idl::ChuckStateSample, idl::ChuckStateSamplePubSubType>(in, wire, to);
     case 5: {
       const std::string device = text(in);
       std::vector<std::string> items{text(in)};
       items.push_back(text(in));
       return agent.items_lost(device, items);
     }
-    default:
+    case 6:
       return agent.device_lost(text(in));
+    default:
+      return to.path.forget(in.byte() % mtc::fuzz::ReceivePath::kWriters);
   }
 }
 
@@ -239,10 +263,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   mtc::bridge::AgentOptions options;  // a model from the announcements
   options.buffer_size = 64;
   options.instance_id = 1;
-  const auto agent = mtc::bridge::make_agent(options);
+  Receiver to{{}, mtc::bridge::make_agent(options)};
   for (int ops = 0; ops < 64 && !in.empty(); ++ops) {
-    run_op(in, *agent);
+    run_op(in, to);
   }
+  const auto& agent = to.agent;
   for (const char* target : {"/probe", "/current", "/sample?count=64"}) {
     const auto routed = agent->route("GET", target);
     require(routed.response.has_value(), "no answer", target);
