@@ -92,7 +92,7 @@ void check_state(const core::ObservedState& state, core::ItemKind kind, std::uin
 }
 
 core::ObservedValue decoded(const idl::InteractionSample& s) {
-  const auto v = mtc::dds::detail::decode_sample(s);
+  auto v = mtc::dds::detail::decode_sample(s);
   check_header(s, v);
   check_state(v.state, core::ItemKind::Interaction, s.state(), kInteractionStates,
               v.state.interaction());
@@ -103,26 +103,26 @@ core::ObservedValue decoded(const idl::InteractionSample& s) {
   return v;
 }
 core::ObservedValue decoded(const idl::InterfaceStateSample& s) {
-  const auto v = mtc::dds::detail::decode_sample(s);
+  auto v = mtc::dds::detail::decode_sample(s);
   check_header(s, v);
   check_state(v.state, core::ItemKind::InterfaceState, s.state(), kInterfaceStates,
               v.state.interface_state());
   return v;
 }
 core::ObservedValue decoded(const idl::DoorStateSample& s) {
-  const auto v = mtc::dds::detail::decode_sample(s);
+  auto v = mtc::dds::detail::decode_sample(s);
   check_header(s, v);
   check_state(v.state, core::ItemKind::DoorState, s.state(), kDoorStates, v.state.door());
   return v;
 }
 core::ObservedValue decoded(const idl::ChuckStateSample& s) {
-  const auto v = mtc::dds::detail::decode_sample(s);
+  auto v = mtc::dds::detail::decode_sample(s);
   check_header(s, v);
   check_state(v.state, core::ItemKind::ChuckState, s.state(), kDoorStates, v.state.chuck());
   return v;
 }
 core::ObservedDevice decoded(const idl::DeviceDescription& s) {
-  const auto d = mtc::dds::detail::decode_sample(s);
+  auto d = mtc::dds::detail::decode_sample(s);
   require(d.device_uuid == s.device_uuid().to_string(), "device_uuid changed");
   require(d.name == s.name().to_string(), "name changed");
   require(d.interfaces.size() == s.interfaces().size(), "interfaces lost");
