@@ -8,6 +8,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <functional>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -60,13 +61,13 @@ class DiscoveryWatch : public fdds::DomainParticipantListener {
                               frtps::WriterDiscoveryInfo&& info) override {
     using S = frtps::WriterDiscoveryInfo;
     record(info.info.guid(), info.status == S::DISCOVERED_WRITER,
-           info.status == S::CHANGED_QOS_WRITER);
+           info.status == S::CHANGED_QOS_WRITER, info.info.get_serialized_size(true));
   }
   void on_subscriber_discovery(fdds::DomainParticipant*,
                                frtps::ReaderDiscoveryInfo&& info) override {
     using S = frtps::ReaderDiscoveryInfo;
     record(info.info.guid(), info.status == S::DISCOVERED_READER,
-           info.status == S::CHANGED_QOS_READER);
+           info.status == S::CHANGED_QOS_READER, info.info.get_serialized_size(true));
   }
 
   // Waits until every endpoint discovered was also announced again, and
@@ -84,6 +85,14 @@ class DiscoveryWatch : public fdds::DomainParticipantListener {
     }
     return true;
   }
+  // Serialized size of the newest announcement of each endpoint: one
+  // pass's payload to each peer.
+  std::size_t pass_bytes() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::size_t sum = 0;
+    for (const auto& [guid, bytes] : bytes_) sum += bytes;
+    return sum;
+  }
   std::size_t removed() {
     std::lock_guard<std::mutex> lock(mutex_);
     return removed_;
@@ -95,7 +104,7 @@ class DiscoveryWatch : public fdds::DomainParticipantListener {
   }
 
  private:
-  void record(const frtps::GUID_t& guid, bool discovered, bool changed) {
+  void record(const frtps::GUID_t& guid, bool discovered, bool changed, std::uint32_t bytes) {
     std::lock_guard<std::mutex> lock(mutex_);
     // The participant is always discovered before its endpoints.
     if (guid.guidPrefix != prefix_) return;
@@ -103,6 +112,7 @@ class DiscoveryWatch : public fdds::DomainParticipantListener {
       discovered_.insert(guid);
     } else if (changed) {
       changed_.insert(guid);
+      bytes_[guid] = bytes;
     } else {
       ++removed_;
     }
@@ -115,6 +125,7 @@ class DiscoveryWatch : public fdds::DomainParticipantListener {
   frtps::GuidPrefix_t prefix_;
   std::set<frtps::GUID_t> discovered_;
   std::set<frtps::GUID_t> changed_;
+  std::map<frtps::GUID_t, std::uint32_t> bytes_;
   std::size_t removed_ = 0;
   fdds::DomainParticipant* participant_ = nullptr;
 };
@@ -213,6 +224,8 @@ TEST_F(Reannounce, PassCoversEveryEndpointAndLeavesBystandersAlone) {
   EXPECT_TRUE(watch.wait_all_reannounced([&] { return robot.traffic().endpoints_reannounced; }))
       << watch.dump() << "; the robot's latest pass announced "
       << robot.traffic().endpoints_reannounced;
+  RecordProperty("endpoints_per_pass", static_cast<int>(robot.traffic().endpoints_reannounced));
+  RecordProperty("announcement_bytes_per_pass_and_peer", static_cast<int>(watch.pass_bytes()));
   EXPECT_EQ(feed.request(wait).get().outcome, Outcome::Completed);
   EXPECT_EQ(watch.removed(), 0U);
   EXPECT_EQ(feeder_rec.links().size(), feeder_links) << feeder_rec.dump();
