@@ -416,6 +416,10 @@ TapCounts DomainTap::counts() const noexcept {
           impl_->counters.heartbeats.load(std::memory_order_relaxed)};
 }
 
+std::size_t DomainTap::reannounce() {
+  return impl_->subscriber->reannounce();
+}
+
 DomainTap::~DomainTap() {
   // Readers first (they reference listeners and topics), then the rest.
   for (auto& r : impl_->readers) {
