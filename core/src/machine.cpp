@@ -136,6 +136,8 @@ bool ServiceMachine::guard_holds(Guard g) const noexcept {
       return !fail_acknowledged();
     case Guard::CounterpartFailPending:
       return fail_pending_;
+    case Guard::LateAcknowledgement:
+      return ack_owed_ && counterpart_ == InteractionState::Fail && !fail_pending_;
   }
   return false;
 }
@@ -165,6 +167,14 @@ Phase ServiceMachine::resolve(Target t) const noexcept {
 
 void ServiceMachine::enter(Phase next, TimePoint now) noexcept {
   if (next == phase_) return;
+  // Leaving FAIL without its acknowledgement (fail_ack waived the wait):
+  // the counterpart may still answer it, late. A new handshake or a new
+  // FAIL ends that wait.
+  if (phase_ == Phase::Fail) {
+    ack_owed_ = !acknowledged_ && ack_waived_;
+  } else if (next == Phase::Active || next == Phase::Complete || next == Phase::Fail) {
+    ack_owed_ = false;
+  }
   phase_ = next;
   since_ = now;
   switch (next) {
@@ -193,6 +203,7 @@ void ServiceMachine::apply_effects(Event event, Phase before, Notice notice) noe
     counterpart_engaged_ = true;
   }
   if (notice == Notice::FailAcknowledged) acknowledged_ = true;
+  if (notice == Notice::FailAcknowledged && before != Phase::Fail) ack_owed_ = false;
   if (event == Event::SeenUnavailable && before == Phase::Fail) acknowledged_ = false;
   if (event == Event::FailAckTimeout && notice == Notice::TimedOut) ack_waived_ = true;
   if (event == Event::CompletionAckTimeout && notice == Notice::TimedOut) {
@@ -222,7 +233,21 @@ StepResult ServiceMachine::step(Event event, TimePoint now) noexcept {
     // already acknowledged, the counterpart has failed anew (it recovered
     // and failed again while we were still in FAIL): we answer that after
     // our own recovery (see next_deadline).
-    fail_pending_ = observed == InteractionState::Fail && (phase_ != Phase::Fail || acknowledged_);
+    //
+    // After we left FAIL by the fail_ack limit, unacknowledged, the next
+    // FAIL of the counterpart while we are idle is that acknowledgement,
+    // late, not a new failure: failing again for it would fail the
+    // handshake the counterpart starts next (issue 10: a requester restarted
+    // while the responder's FAIL waited for it, whose FAIL arrived after the
+    // responder's fail_ack expired, failed its first request). A handshake
+    // step of the counterpart in between means it moved on.
+    const bool idle = phase_ == Phase::Ready || phase_ == Phase::NotReady;
+    if (observed == InteractionState::Active || observed == InteractionState::Complete) {
+      ack_owed_ = false;
+    }
+    const bool late_ack = observed == InteractionState::Fail && ack_owed_ && idle;
+    fail_pending_ =
+        observed == InteractionState::Fail && !late_ack && (phase_ != Phase::Fail || acknowledged_);
   }
   const TransitionTable table = role_ == Role::Requester ? requester_table() : responder_table();
   const Transition row = find_row(table, phase_, event, [this](Guard g) { return guard_holds(g); });

@@ -111,6 +111,7 @@ class ServiceMachine {
   bool acknowledged_ = false;         // our FAIL acknowledged
   bool ack_waived_ = false;           // fail_ack expired
   bool fail_pending_ = false;         // counterpart went FAIL, not yet reacted to
+  bool ack_owed_ = false;             // we left FAIL unacknowledged (wait waived)
   bool counterpart_lost_ = false;     // last counterpart value was UNAVAILABLE
   bool completion_ack_reported_ = false;
 };
