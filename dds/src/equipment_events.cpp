@@ -14,6 +14,7 @@ namespace mtc::dds {
 using detail::TopicKind;
 
 void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
+  check_own_silence();
   std::visit(
       [this, group](auto& e) {
         using T = std::decay_t<decltype(e)>;
@@ -97,26 +98,46 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
     }
     if (itf->cp_uuid != v.device_uuid || itf->cp_interface != v.interface_id) continue;
+    // Not an answer to us: the counterpart states its values again for us
+    // once it has taken us for its counterpart (note_counterpart_value).
+    if (written_for_predecessor(*itf, v, e.paired)) continue;
     take_counterpart_value(*itf, e.writer, v, missed_change);
   }
   // After the interfaces: a pairing above replays what was seen before.
-  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v};
+  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v, e.paired};
 }
 
 // Remembers a counterpart value (the last of each item is fed again after a
 // loss) and which heartbeat vouches for it. A value of another incarnation
-// of the counterpart (restarted under the same uuid) voids what was known.
+// of the counterpart (restarted under the same uuid) voids what was known,
+// and our own values are stated again for it: what we wrote before named its
+// predecessor, which it does not take for an answer (scenario 6: it must
+// not trust a READY written before we knew of it).
 void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
                                            const ObservedValue& v) {
   const auto key = detail::PeerGroups::key_of(writer, v.device_uuid, v.heartbeat_group);
-  if (!itf.cp_group || itf.cp_group->participant != key.participant) {
+  const bool new_incarnation = !itf.cp_group || itf.cp_group->participant != key.participant;
+  if (new_incarnation) {
     itf.cp_values.clear();
     itf.cp_stale.clear();
   }
   itf.cp_group = key;
+  if (new_incarnation && started) publish_pairing(itf);
   itf.cp_values[v.data_item_id] = v;
   itf.cp_stale.erase(v.data_item_id);
   itf.last_heard_ns = std::max(itf.last_heard_ns, v.reception_time_ns);
+}
+
+// A value naming our interface but another participant of our uuid. One
+// naming another interface is the pairing rule's (take_counterpart_value
+// excludes us).
+bool EquipmentImpl::written_for_predecessor(const InterfaceSlot& itf, const ObservedValue& v,
+                                            const detail::ParticipantKey& paired) const noexcept {
+  if (paired == detail::ParticipantKey{}) return false;
+  if (v.paired_device_uuid != options.device_uuid || v.paired_interface_id != itf.config.id) {
+    return false;
+  }
+  return paired != self;
 }
 
 // Hands one counterpart value to the application and, for an interaction
@@ -402,6 +423,26 @@ void EquipmentImpl::owner_silent(std::size_t group, const detail::PeerGroupKey& 
     }
   }
   if (auto held = owners.owner_lost(key.device, key.participant)) on_device(*held);
+}
+
+void EquipmentImpl::check_own_silence() {
+  if (!heartbeat_thread) return;
+  const auto now = detail::HeartbeatThread::Clock::now();
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const auto silence = heartbeat_thread->take_silence(g, now);
+    const auto& timing = groups[g]->timing;
+    // The counterparts' own rule (detail::silent_for_a_lease).
+    if (silence < timing.lease() - timing.heartbeat / 2) continue;
+    for (auto& itf : interfaces) {
+      if (itf->group != g || itf->link.load() != LinkState::Up) continue;
+      link_lost(*itf,
+                "our own heartbeats stopped for " +
+                    std::to_string(
+                        std::chrono::duration_cast<std::chrono::milliseconds>(silence).count()) +
+                    " ms (this process was stopped, starved or hung): the counterpart "
+                    "has taken us for lost");
+    }
+  }
 }
 
 void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {

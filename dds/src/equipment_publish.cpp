@@ -2,6 +2,7 @@
 // only), the heartbeat and the DeviceDescription announcement.
 #include <algorithm>
 #include <iostream>
+#include <iterator>
 
 #include "equipment_impl.hpp"
 #include "mtc/dds/detail/topics.hpp"
@@ -141,6 +142,8 @@ void EquipmentImpl::create_entities() {
   pc.security_dir = options.security_dir;
   detail::deliver_through_transports();
   participant = std::make_unique<Participant>(options.domain_id, detail::checked_qos(pc));
+  const auto& prefix = participant->get().guid().guidPrefix.value;
+  std::copy(std::begin(prefix), std::end(prefix), self.begin());
   topics = std::make_unique<detail::TopicSet>(*participant, t);
   publisher = std::make_unique<Publisher>(
       *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});
@@ -278,6 +281,10 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
     std::lock_guard<std::mutex> lock(binding_mutex);
     s.paired_device_uuid(itf.cp_uuid);
     s.paired_interface_id(itf.cp_interface);
+  }
+  if (itf.cp_group) {
+    std::copy(itf.cp_group->participant.begin(), itf.cp_group->participant.end(),
+              s.paired_participant().begin());
   }
   w.writer->write(s);
   wrote_interaction(g, slot.topic, w.seq);

@@ -29,6 +29,8 @@ HeartbeatThread::HeartbeatThread(std::vector<Group> groups, const Executor& exec
     : groups_(std::move(groups)),
       next_(groups_.size(), Clock::now()),
       withheld_(groups_.size(), false),
+      last_beat_(groups_.size(), Clock::now()),
+      longest_gap_(groups_.size(), Clock::duration::zero()),
       executor_(executor),
       report_(std::move(report)) {
   thread_ = std::thread([this] { run(); });
@@ -50,6 +52,15 @@ void HeartbeatThread::stop() {
 bool HeartbeatThread::realtime() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return realtime_;
+}
+
+HeartbeatThread::Clock::duration HeartbeatThread::take_silence(std::size_t group,
+                                                               Clock::time_point now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto since_last = now > last_beat_[group] ? now - last_beat_[group] : Clock::duration{};
+  const auto longest = std::max(longest_gap_[group], since_last);
+  longest_gap_[group] = Clock::duration::zero();
+  return longest;
 }
 
 void HeartbeatThread::run() {
@@ -87,6 +98,10 @@ void HeartbeatThread::beat_group(std::size_t index, Clock::time_point now) {
     }
     try {
       g.beat();
+      const auto written = Clock::now();
+      std::lock_guard<std::mutex> lock(mutex_);
+      longest_gap_[index] = std::max(longest_gap_[index], written - last_beat_[index]);
+      last_beat_[index] = written;
     } catch (const std::exception& e) {
       report_("heartbeat group " + std::to_string(index) + ": " + e.what());
     }
