@@ -128,18 +128,6 @@ void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Han
   itf.last_heard_ns = std::max(itf.last_heard_ns, v.reception_time_ns);
 }
 
-// A value naming our interface but another participant of our uuid. One
-// naming another interface is the pairing rule's (take_counterpart_value
-// excludes us).
-bool EquipmentImpl::written_for_predecessor(const InterfaceSlot& itf, const ObservedValue& v,
-                                            const detail::ParticipantKey& paired) const noexcept {
-  if (paired == detail::ParticipantKey{}) return false;
-  if (v.paired_device_uuid != options.device_uuid || v.paired_interface_id != itf.config.id) {
-    return false;
-  }
-  return paired != self;
-}
-
 // Hands one counterpart value to the application and, for an interaction
 // item, to the machine of our opposite side.
 // The application hears of the value before the transitions it causes (a
@@ -423,26 +411,6 @@ void EquipmentImpl::owner_silent(std::size_t group, const detail::PeerGroupKey& 
     }
   }
   if (auto held = owners.owner_lost(key.device, key.participant)) on_device(*held);
-}
-
-void EquipmentImpl::check_own_silence() {
-  if (!heartbeat_thread) return;
-  const auto now = detail::HeartbeatThread::Clock::now();
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    const auto silence = heartbeat_thread->take_silence(g, now);
-    const auto& timing = groups[g]->timing;
-    // The counterparts' own rule (detail::silent_for_a_lease).
-    if (silence < timing.lease() - timing.heartbeat / 2) continue;
-    for (auto& itf : interfaces) {
-      if (itf->group != g || itf->link.load() != LinkState::Up) continue;
-      link_lost(*itf,
-                "our own heartbeats stopped for " +
-                    std::to_string(
-                        std::chrono::duration_cast<std::chrono::milliseconds>(silence).count()) +
-                    " ms (this process was stopped, starved or hung): the counterpart "
-                    "has taken us for lost");
-    }
-  }
 }
 
 void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {
