@@ -117,6 +117,10 @@ void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Han
                                            const ObservedValue& v) {
   const auto key = detail::PeerGroups::key_of(writer, v.device_uuid, v.heartbeat_group);
   const bool new_incarnation = !itf.cp_group || itf.cp_group->participant != key.participant;
+  // Its predecessor is gone, whether or not its silence was noticed yet (a
+  // device that never got its announcement through takes no ownership
+  // check): scenario 6, before anything of the new one is taken.
+  if (new_incarnation && itf.cp_group) link_lost(itf, "counterpart restarted (a new participant)");
   if (new_incarnation) {
     itf.cp_values.clear();
     itf.cp_stale.clear();

@@ -27,11 +27,15 @@ bool EquipmentImpl::written_for_predecessor(const InterfaceSlot& itf, const Obse
 void EquipmentImpl::check_own_silence() {
   if (!heartbeat_thread) return;
   const auto now = detail::HeartbeatThread::Clock::now();
+  own_silence_handled.resize(groups.size());
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    const auto silence = heartbeat_thread->take_silence(g, now);
+    const auto taken = heartbeat_thread->take_silence(g, now);
+    const auto silence = taken.length;
     const auto& timing = groups[g]->timing;
-    // The counterparts' own rule (detail::silent_for_a_lease).
+    // The counterparts' own rule (detail::silent_for_a_lease); once per silence.
     if (silence < timing.lease() - timing.heartbeat / 2) continue;
+    if (taken.since == own_silence_handled[g]) continue;
+    own_silence_handled[g] = taken.since;
     for (auto& itf : interfaces) {
       if (itf->group != g || itf->link.load() != LinkState::Up) continue;
       link_lost(*itf,

@@ -30,7 +30,7 @@ HeartbeatThread::HeartbeatThread(std::vector<Group> groups, const Executor& exec
       next_(groups_.size(), Clock::now()),
       withheld_(groups_.size(), false),
       last_beat_(groups_.size(), Clock::now()),
-      longest_gap_(groups_.size(), Clock::duration::zero()),
+      longest_gap_(groups_.size()),
       executor_(executor),
       report_(std::move(report)) {
   thread_ = std::thread([this] { run(); });
@@ -54,12 +54,13 @@ bool HeartbeatThread::realtime() const {
   return realtime_;
 }
 
-HeartbeatThread::Clock::duration HeartbeatThread::take_silence(std::size_t group,
-                                                               Clock::time_point now) {
+HeartbeatThread::Silence HeartbeatThread::take_silence(std::size_t group, Clock::time_point now) {
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto since_last = now > last_beat_[group] ? now - last_beat_[group] : Clock::duration{};
-  const auto longest = std::max(longest_gap_[group], since_last);
-  longest_gap_[group] = Clock::duration::zero();
+  Silence ongoing{now > last_beat_[group] ? now - last_beat_[group] : Clock::duration{},
+                  last_beat_[group]};
+  const Silence longest =
+      longest_gap_[group].length > ongoing.length ? longest_gap_[group] : ongoing;
+  longest_gap_[group] = Silence{};
   return longest;
 }
 
@@ -100,7 +101,9 @@ void HeartbeatThread::beat_group(std::size_t index, Clock::time_point now) {
       g.beat();
       const auto written = Clock::now();
       std::lock_guard<std::mutex> lock(mutex_);
-      longest_gap_[index] = std::max(longest_gap_[index], written - last_beat_[index]);
+      if (written - last_beat_[index] > longest_gap_[index].length) {
+        longest_gap_[index] = Silence{written - last_beat_[index], last_beat_[index]};
+      }
       last_beat_[index] = written;
     } catch (const std::exception& e) {
       report_("heartbeat group " + std::to_string(index) + ": " + e.what());
