@@ -35,7 +35,7 @@ Kind classify(std::string_view name) {
     return !text.empty();
   };
   if (body.size() == kSegmentIdLength &&
-      all(body, [](unsigned char c) { return std::isdigit(c) || std::islower(c); })) {
+      all(body, [](unsigned char c) { return std::isdigit(c) != 0 || std::islower(c) != 0; })) {
     return Kind::Segment;
   }
   if (body.substr(0, kPort.size()) == kPort && body.size() <= kPort.size() + 5 &&

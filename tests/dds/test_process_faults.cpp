@@ -38,6 +38,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "child_process.hpp"
@@ -111,7 +112,7 @@ class FaultCase {
     const int requests = fault_ == Fault::Stop ? 2 : 1;
     auto args = peer_args(hold_point(faulted_, step_), requests);
     args.emplace_back("--start-on-sigusr1");
-    peer_ = std::make_unique<ChildProcess>(args);
+    peer_ = std::make_unique<ChildProcess>(std::move(args));
     if (faulted_ == Party::Responder && step_ >= 2) held_request_ = req_->request(wait);
     // The peer begins once this side sees it (it may see us first).
     ASSERT_TRUE(rec_.wait([&] {
@@ -150,7 +151,7 @@ class FaultCase {
     int n = 0;
     for (int i = 0; i < result->total_part_count(); ++i) {
       const auto& part = result->GetTestPartResult(i);
-      n += fatal_only ? part.fatally_failed() : part.failed();
+      if (fatal_only ? part.fatally_failed() : part.failed()) ++n;
     }
     return n;
   }
