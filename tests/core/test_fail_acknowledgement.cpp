@@ -70,8 +70,9 @@ TEST(Acknowledgement, LateAcknowledgementAfterTheWaitWasWaivedIsNoNewFailure) {
   const auto late = rs.on_counterpart(S::Fail, t + std::chrono::seconds(3));
   EXPECT_EQ(late.current, S::Ready) << "the late acknowledgement is no new failure";
   EXPECT_EQ(late.notice, N::FailAcknowledged);
-  EXPECT_EQ(rs.next_deadline(), kNever) << "and no reaction is due";
+  EXPECT_EQ(rs.next_deadline(), t + std::chrono::seconds(5)) << "unless it stays FAIL";
   rs.on_counterpart(S::Ready, t + std::chrono::seconds(3));
+  EXPECT_EQ(rs.next_deadline(), kNever) << "it recovered: it was an acknowledgement";
   EXPECT_EQ(rs.on_counterpart(S::Active, t + std::chrono::seconds(3)).notice, N::RequestObserved);
   // Once a handshake moved on, a FAIL is a failure again.
   ASSERT_EQ(rs.accept(t + std::chrono::seconds(3)).current, S::Active);
@@ -79,6 +80,26 @@ TEST(Acknowledgement, LateAcknowledgementAfterTheWaitWasWaivedIsNoNewFailure) {
   rs.on_counterpart(S::Ready, t + std::chrono::seconds(3));
   ASSERT_EQ(rs.state(), S::Ready);
   EXPECT_EQ(rs.on_counterpart(S::Fail, t + std::chrono::seconds(4)).current, S::Fail);
+}
+
+// The FAIL taken for a late acknowledgement was a new failure after all:
+// the counterpart stays FAIL, waiting for ours; it gets it after fail_ack
+// (the randomized test found the deadlock when it never came).
+TEST(Acknowledgement, ALateAcknowledgementThatStaysFailIsAnsweredAfterFailAck) {
+  MachineOptions o;
+  o.limits.fail_ack = std::chrono::seconds(2);
+  Requester rq(Service::MaterialLoad, o);
+  const TimePoint t{};
+  rq.on_counterpart(S::Ready, t);
+  rq.on_counterpart_lost(t);
+  rq.on_tick(t + std::chrono::seconds(2));  // fail_ack waived
+  ASSERT_EQ(rq.recover(S::Ready, t + std::chrono::seconds(2)).current, S::Ready);
+  ASSERT_EQ(rq.on_counterpart(S::Fail, t + std::chrono::seconds(3)).current, S::Ready);
+  EXPECT_EQ(rq.on_tick(t + std::chrono::seconds(4)).current, S::Ready) << "not yet";
+  const auto answer = rq.on_tick(t + std::chrono::seconds(5));
+  EXPECT_EQ(answer.current, S::Fail);
+  EXPECT_EQ(answer.notice, N::CounterpartFailed);
+  EXPECT_TRUE(rq.fail_acknowledged());
 }
 
 // Without a waived wait, a counterpart FAIL while idle stays a failure.
