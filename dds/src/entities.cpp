@@ -2,6 +2,7 @@
 
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 
+#include <algorithm>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <iostream>
 #include <memory>
@@ -26,12 +27,11 @@ void report(const ReturnCode& code, const char* what) {
 bool uses_shared_memory(const fdds::DomainParticipantQos& qos) {
   const auto& transport = qos.transport();
   if (transport.use_builtin_transports) return true;
-  for (const auto& t : transport.user_transports) {
-    if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(t)) {
-      return true;
-    }
-  }
-  return false;
+  return std::any_of(
+      transport.user_transports.begin(), transport.user_transports.end(), [](const auto& t) {
+        return std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(
+                   t) != nullptr;
+      });
 }
 
 }  // namespace

@@ -5,7 +5,9 @@
 // as answers. And scenario 6 is symmetric: when our own heartbeats stopped
 // long enough for the counterpart to declare us lost, we take it for lost
 // as well.
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <string>
 
 #include "equipment_impl.hpp"
@@ -21,7 +23,9 @@ bool EquipmentImpl::written_for_predecessor(const InterfaceSlot& itf, const Obse
   if (v.paired_device_uuid != options.device_uuid || v.paired_interface_id != itf.config.id) {
     return false;
   }
-  return paired != self;
+  if (!participant) return false;
+  const auto& self = participant->get().guid().guidPrefix.value;
+  return !std::equal(paired.begin(), paired.end(), std::begin(self));
 }
 
 void EquipmentImpl::check_own_silence() {

@@ -202,7 +202,6 @@ struct EquipmentImpl {
   // DDS entities, declaration order = creation order (destroyed in reverse).
   detail::Executor executor;
   std::unique_ptr<Participant> participant;
-  detail::ParticipantKey self{};  // our participant's GUID prefix (set by create_entities)
   // Per timing group: the beginning of the last own silence acted upon.
   std::vector<detail::HeartbeatThread::Clock::time_point> own_silence_handled;
   std::unique_ptr<detail::TopicSet> topics;

@@ -2,7 +2,6 @@
 // only), the heartbeat and the DeviceDescription announcement.
 #include <algorithm>
 #include <iostream>
-#include <iterator>
 
 #include "equipment_impl.hpp"
 #include "mtc/dds/detail/topics.hpp"
@@ -142,8 +141,6 @@ void EquipmentImpl::create_entities() {
   pc.security_dir = options.security_dir;
   detail::deliver_through_transports();
   participant = std::make_unique<Participant>(options.domain_id, detail::checked_qos(pc));
-  const auto& prefix = participant->get().guid().guidPrefix.value;
-  std::copy(std::begin(prefix), std::end(prefix), self.begin());
   topics = std::make_unique<detail::TopicSet>(*participant, t);
   publisher = std::make_unique<Publisher>(
       *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});

@@ -57,6 +57,13 @@ std::vector<std::string> list(const std::string& dir) {
   return names;
 }
 
+std::string path_in(const std::string& dir, std::string_view name) {
+  std::string path = dir;
+  path += '/';
+  path += name;
+  return path;
+}
+
 // True when nobody holds the lock file's flock: its owner is dead. The lock
 // is kept (fd stays open) until the caller has removed the files.
 bool owner_dead(const std::string& lock_path, int& fd) {
@@ -75,7 +82,7 @@ StaleSharedMemory remove_stale_shared_memory(const std::string& dir) {
   for (const auto& name : list(dir)) {
     const Kind kind = classify(name);
     if (kind == Kind::None) continue;
-    const std::string lock_path = dir + "/" + name;
+    const std::string lock_path = path_in(dir, name);
     const std::string object = name.substr(0, name.size() - kLockSuffix.size());
     int fd = -1;
     if (!owner_dead(lock_path, fd)) {
@@ -84,8 +91,8 @@ StaleSharedMemory remove_stale_shared_memory(const std::string& dir) {
     }
     // The object first, its lock last (held until then): nobody can take
     // the name over in between.
-    ::unlink((dir + "/" + object).c_str());
-    if (kind == Kind::Port) ::unlink((dir + "/sem." + object + "_mutex").c_str());
+    ::unlink(path_in(dir, object).c_str());
+    if (kind == Kind::Port) ::unlink(path_in(dir, "sem." + object + "_mutex").c_str());
     ::unlink(lock_path.c_str());
     ::close(fd);
     ++(kind == Kind::Segment ? out.segments : out.ports);

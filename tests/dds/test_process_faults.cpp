@@ -34,6 +34,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <memory>
@@ -414,7 +415,7 @@ class FaultCase {
 std::int64_t percentile(std::vector<std::int64_t> v, double p) {
   if (v.empty()) return -1;
   std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1) + 0.5)];
+  return v[static_cast<std::size_t>(std::lround(p * static_cast<double>(v.size() - 1)))];
 }
 
 std::string load_average() {
