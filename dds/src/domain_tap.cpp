@@ -169,8 +169,11 @@ class TapListener final : public fdds::DataReaderListener {
         }
       }
       counters_.values.fetch_add(1, std::memory_order_relaxed);
-      ValueEvent event{kind_, to_handle(info.publication_handle), to_handle(info.instance_handle),
-                       std::move(value), {}};
+      ValueEvent event{kind_,
+                       to_handle(info.publication_handle),
+                       to_handle(info.instance_handle),
+                       std::move(value),
+                       {}};
       if constexpr (std::is_same_v<Sample, idl::InteractionSample>) {
         std::copy(s.paired_participant().begin(), s.paired_participant().end(),
                   event.paired.begin());
