@@ -251,6 +251,7 @@ struct EquipmentImpl {
   void write_heartbeat(std::size_t index);
   void start_heartbeats();
   void dispose_all() noexcept;
+  bool await_disposals() noexcept;  // bounded: see equipment_publish.cpp
 
   // --- machines (equipment_machines.cpp) ---
   core::StepResult apply(ServiceSlot& slot, core::Event event, SteadyClock::time_point now,
