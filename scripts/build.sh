@@ -4,7 +4,10 @@
 #
 # Usage: scripts/build.sh
 # Environment: MTC_BUILD_DIR (default <repo>/build), MTC_BUILD_TYPE (default
-# RelWithDebInfo), MTC_WERROR (default ON: warnings are errors).
+# RelWithDebInfo), MTC_WERROR (default ON: warnings are errors),
+# MTC_SANITIZE=asan (clang, ASan+UBSan, with the libFuzzer targets) or tsan
+# (clang, TSan): a sanitizer build (cmake/MtcSanitizers.cmake); MTC_FUZZ_SECONDS
+# (default 45): each fuzz run of an asan build (ctest label fuzz).
 # A build folder that is already configured keeps its configuration unless
 # MTC_BUILD_TYPE or MTC_WERROR is set: the test command (scripts/test.sh) and
 # the main command (scripts/start.sh) both build through here, and a switch
@@ -28,5 +31,15 @@ fi
 if [ -n "${MTC_WERROR:-}" ] || [ "$configured" = 0 ]; then
   config+=(-DMTC_WERROR="${MTC_WERROR:-ON}")
 fi
+# Sanitizer builds use clang (CXX is read only when a build directory is
+# first configured, so a rerun keeps its cache and objects).
+case "${MTC_SANITIZE:-}" in
+  "") ;;
+  asan) export CXX=clang++
+    config+=(-DMTC_SANITIZE=address -DMTC_FUZZ=ON -DMTC_FUZZ_SECONDS="${MTC_FUZZ_SECONDS:-45}") ;;
+  tsan) export CXX=clang++
+    config+=(-DMTC_SANITIZE=thread) ;;
+  *) echo "build.sh: MTC_SANITIZE must be asan or tsan, not '$MTC_SANITIZE'" >&2; exit 2 ;;
+esac
 cmake -S "$root" -B "$build" "${config[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)"

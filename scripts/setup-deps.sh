@@ -30,6 +30,7 @@ PACKAGES=(
                                                            # yardstick in mtc-bench-dds-latency
   chromium                                                 # the live page's browser test (headless)
   clang-format clang-tidy                                  # lint.format, lint.tidy (scripts/lint.sh)
+  clang libclang-rt-14-dev llvm                           # sanitizer builds, libFuzzer, symbolizer
 )
 
 missing=()

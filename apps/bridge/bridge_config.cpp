@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "mtc/bridge/schema_version.hpp"
+#include "mtc/bridge/xml_text.hpp"
 #include "mtc/qos/participant.hpp"
 
 namespace mtc::bridge {
@@ -128,6 +129,10 @@ void set_schema_version(BridgeConfig& c, std::string_view v, const std::string& 
 void set_sender(BridgeConfig& c, std::string_view v, const std::string& origin) {
   if (!is_printable(v)) {
     fail(origin, "Sender contains control characters");
+  }
+  // It goes into every document's Header (and the 2.0 Agent's uuid).
+  if (find_unfit_xml_char(v) != std::string_view::npos) {
+    fail(origin, "Sender is not UTF-8 text that XML allows");
   }
   c.agent.sender = std::string(v);
 }

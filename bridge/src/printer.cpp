@@ -205,7 +205,7 @@ std::string Printer::probe(const HeaderInfo& h, const DeviceModel& model,
     pugi::xml_node agent = devices.append_child("Agent");
     agent.append_attribute("id") = "mtc_bridge_agent";
     agent.append_attribute("name") = "Agent";
-    agent.append_attribute("uuid") = (h.sender + "-agent").c_str();
+    agent.append_attribute("uuid") = make_xml_safe(h.sender + "-agent").c_str();
   }
   std::size_t index = 0;
   for (pugi::xml_node dev : model.devices_node().children()) {

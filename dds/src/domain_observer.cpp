@@ -1,6 +1,7 @@
 #include "mtc/dds/domain_observer.hpp"
 
 #include <algorithm>
+#include <future>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -17,6 +18,7 @@
 #include "mtc/qos/presets.hpp"
 #include "peer_checks.hpp"
 #include "peer_groups.hpp"
+#include "reannounce.hpp"
 
 namespace mtc::dds {
 
@@ -67,6 +69,8 @@ struct DomainObserver::Impl {
   // participant lease) must not turn the current one's items UNAVAILABLE.
   std::map<std::string, detail::ParticipantKey> incarnation;
   detail::DeviceOwners owners;  // who speaks for each device (no DDS-Security)
+  // The tap's readers announced again after a loss (reannounce.hpp).
+  detail::ReannounceSchedule reannounce;
 
   mutable std::mutex devices_mutex;
   std::map<std::string, ObservedDevice> devices;
@@ -193,9 +197,9 @@ struct DomainObserver::Impl {
   }
 
   void device_lost(const std::string& device) {
-    if (lost_devices.insert(device).second && callbacks.on_device_lost) {
-      callbacks.on_device_lost(device);
-    }
+    if (!lost_devices.insert(device).second) return;
+    reannounce.lost(detail::Executor::Clock::now());
+    if (callbacks.on_device_lost) callbacks.on_device_lost(device);
   }
 
   void items_lost(const std::string& device, const std::set<std::string>& items) {
@@ -203,7 +207,19 @@ struct DomainObserver::Impl {
     for (const auto& item : items) {
       if (lost_items.insert({device, item}).second) newly.push_back(item);
     }
-    if (!newly.empty() && callbacks.on_items_lost) callbacks.on_items_lost(device, newly);
+    if (newly.empty()) return;
+    reannounce.lost(detail::Executor::Clock::now());
+    if (callbacks.on_items_lost) callbacks.on_items_lost(device, newly);
+  }
+
+  void reannounce_due(detail::Executor::Clock::time_point now) {
+    if (!reannounce.due(now)) return;
+    try {
+      tap->reannounce();
+    } catch (const Error& e) {
+      std::cerr << "mtc::dds::DomainObserver: " << e.what() << '\n';
+    }
+    reannounce.passed(now, !lost_devices.empty() || !lost_items.empty());
   }
 
   bool current(const std::string& device, const detail::ParticipantKey& writer_participant) const {
@@ -385,8 +401,12 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
     }
   }
   auto* impl = impl_.get();
-  impl->executor.start([impl] { return impl->next_silence_check(); },
-                       [impl](detail::Executor::Clock::time_point) { impl->check_silence(); });
+  impl->executor.start(
+      [impl] { return std::min(impl->next_silence_check(), impl->reannounce.next()); },
+      [impl](detail::Executor::Clock::time_point now) {
+        impl->check_silence();
+        impl->reannounce_due(now);
+      });
   qos::ParticipantConfig pc;
   pc.name = "mtc-observer";
   pc.transport = options.transport;
@@ -405,9 +425,21 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
           std::visit([impl](auto& e) { impl->handle(e); }, ev);
         });
       });
+  // Posted: the executor reads the tap from then on.
+  impl->executor.post([impl, lease = options.timing.participant_lease] {
+    impl->reannounce.arm(detail::Executor::Clock::now(), lease);
+  });
 }
 
 DomainObserver::~DomainObserver() {
+  // No pass may touch the tap once it is going (the executor runs on).
+  std::promise<void> disarmed;
+  auto done = disarmed.get_future();
+  impl_->executor.post([impl = impl_.get(), &disarmed] {
+    impl->reannounce = detail::ReannounceSchedule{};
+    disarmed.set_value();
+  });
+  done.wait();
   // Stop DDS first so nothing new is queued, then drain the dispatch thread.
   impl_->tap.reset();
   impl_->topics.reset();

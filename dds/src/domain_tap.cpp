@@ -6,6 +6,7 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include "mtc/dds/detail/return_code.hpp"
+#include "mtc/dds/detail/sample_decoding.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
@@ -159,10 +160,7 @@ class TapListener final : public fdds::DataReaderListener {
       if constexpr (std::is_same_v<Sample, idl::InteractionSample>) {
         // A service or sub-type outside the vocabulary is the runtime's
         // peer checks' to report (detail::PeerChecks).
-        const bool on_its_topic =
-            !value.service || !value.sub_type ||
-            interaction_index(*value.sub_type, *value.service) == interaction_;
-        if (!on_its_topic) {
+        if (!on_its_interaction_topic(value, interaction_)) {
           sink_(ProtocolViolationEvent{interaction_, to_handle(info.publication_handle),
                                        std::move(value)});
           return;
@@ -231,6 +229,26 @@ ObservedDevice to_observed(const idl::DeviceDescription& d) {
     out.interfaces.push_back(std::move(oi));
   }
   return out;
+}
+
+ObservedValue decode_sample(const idl::InteractionSample& sample) {
+  return observe(sample);
+}
+ObservedValue decode_sample(const idl::InterfaceStateSample& sample) {
+  return observe(sample);
+}
+ObservedValue decode_sample(const idl::DoorStateSample& sample) {
+  return observe(sample);
+}
+ObservedValue decode_sample(const idl::ChuckStateSample& sample) {
+  return observe(sample);
+}
+ObservedDevice decode_sample(const idl::DeviceDescription& sample) {
+  return to_observed(sample);
+}
+bool on_its_interaction_topic(const ObservedValue& value, std::size_t topic) {
+  return !value.service || !value.sub_type ||
+         interaction_index(*value.sub_type, *value.service) == topic;
 }
 
 const char* topic_name(TopicKind kind) noexcept {
@@ -405,6 +423,10 @@ DomainTap::DomainTap(Participant& participant, TopicSet& topics, const TapConfig
 TapCounts DomainTap::counts() const noexcept {
   return {impl_->counters.values.load(std::memory_order_relaxed),
           impl_->counters.heartbeats.load(std::memory_order_relaxed)};
+}
+
+std::size_t DomainTap::reannounce() {
+  return impl_->subscriber->reannounce();
 }
 
 DomainTap::~DomainTap() {

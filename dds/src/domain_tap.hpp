@@ -178,6 +178,8 @@ class DomainTap {
   DomainTap(const DomainTap&) = delete;
   DomainTap& operator=(const DomainTap&) = delete;
   TapCounts counts() const noexcept;
+  // Subscriber::reannounce of the tap's readers (executor thread); how many.
+  std::size_t reannounce();
 
  private:
   struct Impl;

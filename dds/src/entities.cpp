@@ -117,6 +117,14 @@ Publisher::~Publisher() {
   report(participant_.get().delete_publisher(publisher_), "delete_publisher");
 }
 
+std::size_t Publisher::reannounce() {
+  const fdds::PublisherQos same = publisher_->get_qos();  // a copy, not the one it assigns
+  check(publisher_->set_qos(same), "re-announce the writers (Publisher::set_qos)");
+  std::vector<fdds::DataWriter*> writers;
+  publisher_->get_datawriters(writers);
+  return writers.size();
+}
+
 Subscriber::Subscriber(Participant& participant, const std::vector<std::string>& partitions)
     : participant_(participant) {
   fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
@@ -129,6 +137,14 @@ Subscriber::Subscriber(Participant& participant, const std::vector<std::string>&
 
 Subscriber::~Subscriber() {
   report(participant_.get().delete_subscriber(subscriber_), "delete_subscriber");
+}
+
+std::size_t Subscriber::reannounce() {
+  const fdds::SubscriberQos same = subscriber_->get_qos();  // a copy, not the one it assigns
+  check(subscriber_->set_qos(same), "re-announce the readers (Subscriber::set_qos)");
+  std::vector<fdds::DataReader*> readers;
+  check(subscriber_->get_datareaders(readers), "get_datareaders");
+  return readers.size();
 }
 
 WriterBase::WriterBase(Publisher& publisher, Topic& topic, const fdds::DataWriterQos& qos,

@@ -380,6 +380,8 @@ Traffic Equipment::traffic() const {
   Traffic t;
   t.values_written = impl_->values_written.load(std::memory_order_relaxed);
   t.heartbeats_written = impl_->heartbeats_written.load(std::memory_order_relaxed);
+  t.reannounce_passes = impl_->reannounce_passes.load(std::memory_order_relaxed);
+  t.endpoints_reannounced = impl_->endpoints_reannounced.load(std::memory_order_relaxed);
   if (!impl_->started) return t;
   for (const auto& g : impl_->groups) {
     if (!g->tap) continue;

@@ -423,6 +423,7 @@ void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {
   itf.cp_stale.clear();
   for (const auto& [id, value] : itf.cp_values) itf.cp_stale.insert(id);
   set_link(itf, LinkState::Lost, cause);
+  reannounce.lost(SteadyClock::now());  // the far side may drop us: see reannounce.hpp
   handle_batch(itf, itf.model->counterpart_lost(SteadyClock::now()));
 }
 

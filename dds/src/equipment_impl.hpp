@@ -25,6 +25,7 @@
 #include "mtc/idl/mtconnect_interfaces.h"
 #include "peer_checks.hpp"
 #include "peer_groups.hpp"
+#include "reannounce.hpp"
 
 namespace mtc::dds {
 
@@ -303,6 +304,12 @@ struct EquipmentImpl {
   void set_link(InterfaceSlot& itf, LinkState next, const std::string& cause);
   bool try_bind(InterfaceSlot& itf, const std::string& device, const std::string& interface_id);
   void replay_seen_values(InterfaceSlot& itf);
+  // --- endpoint re-announcement (equipment_reannounce.cpp) ---
+  detail::ReannounceSchedule reannounce;  // armed once every endpoint exists
+  std::atomic<std::uint64_t> reannounce_passes{0};
+  std::atomic<std::uint64_t> endpoints_reannounced{0};  // by the latest pass
+  // Every endpoint of the participant announced again, if a pass is due.
+  void reannounce_due(SteadyClock::time_point now);
   // --- pairing rule and exclusion (equipment_pairing.cpp) ---
   // A counterpart value for `itf`: link state, exclusion, delivery.
   void take_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,

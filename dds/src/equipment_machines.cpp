@@ -177,6 +177,7 @@ void EquipmentImpl::end_pending(ServiceSlot& slot, Outcome outcome, core::Reason
 
 SteadyClock::time_point EquipmentImpl::next_wake() const {
   auto wake = std::min(next_silence_check(), next_election());
+  wake = std::min(wake, reannounce.next());
   for (const auto& itf : interfaces) wake = std::min(wake, itf->model->next_deadline());
   for (const auto& s : slots) {
     if (s->pending && !s->pending->issued) wake = std::min(wake, s->pending->ready_deadline);
@@ -187,6 +188,7 @@ SteadyClock::time_point EquipmentImpl::next_wake() const {
 void EquipmentImpl::on_wake(SteadyClock::time_point now) {
   check_silence();
   elect_due(now);
+  reannounce_due(now);
   for (auto& itf : interfaces) {
     // At most one limit per machine per on_tick; bounded loop for safety.
     for (int i = 0; i < 32 && itf->model->next_deadline() <= now; ++i) {

@@ -188,6 +188,8 @@ void EquipmentImpl::create_entities() {
           executor.post([this, g, ev = std::move(event)]() mutable { on_event(g, ev); });
         });
   }
+  // Posted: the executor reads the taps from then on.
+  executor.post([this] { reannounce.arm(SteadyClock::now(), options.timing.participant_lease); });
 }
 
 // One heartbeat thread for every group; a group's heartbeat is withheld once

@@ -62,6 +62,23 @@ void loopback_discovery(fdds::DomainParticipantQos& q) {
   q.wire_protocol().default_multicast_locator_list.clear();
 }
 
+// An ACKNACK submessage (`m.pos` at its body: readerId, writerId, then the
+// 64-bit bitmap base) from the publications or subscriptions reader of
+// endpoint discovery (entity ids 0x000003c7, 0x000004c7) with base 0. A zero
+// base reads the same in either byte order.
+bool preemptive_discovery_acknack(const eprosima::fastrtps::rtps::CDRMessage_t& m) {
+  constexpr std::uint32_t kBodyBytes = 16;  // two entity ids and the base
+  if (m.pos + kBodyBytes > m.length) return false;
+  const auto* body = m.buffer + m.pos;
+  const bool discovery_reader =
+      body[0] == 0 && body[1] == 0 && (body[2] == 0x03 || body[2] == 0x04) && body[3] == 0xc7;
+  if (!discovery_reader) return false;
+  for (std::uint32_t i = 8; i < kBodyBytes; ++i) {
+    if (body[i] != 0) return false;
+  }
+  return true;
+}
+
 std::shared_ptr<frtps::TransportDescriptorInterface> test_udp(const FaultInjection& faults) {
   auto udp = std::make_shared<frtps::test_UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.emplace_back(kLoopback);
@@ -80,6 +97,11 @@ std::shared_ptr<frtps::TransportDescriptorInterface> test_udp(const FaultInjecti
     udp->drop_data_messages_filter_ = [random, p](eprosima::fastrtps::rtps::CDRMessage_t&) {
       std::lock_guard<std::mutex> lock(random->mutex);
       return random->percent(random->engine) < p;
+    };
+  }
+  if (auto flag = faults.drop_discovery_preemptive_acknacks) {
+    udp->drop_ack_nack_messages_filter_ = [flag](eprosima::fastrtps::rtps::CDRMessage_t& m) {
+      return flag->load(std::memory_order_relaxed) && preemptive_discovery_acknack(m);
     };
   }
   // Per-participant outage switch, checked for every datagram sent.

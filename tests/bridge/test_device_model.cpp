@@ -104,9 +104,6 @@ TEST_P(MalformedDevices, FailsWithFileLineAndReason) {
   }
 }
 
-constexpr const char* kHead =
-    "<MTConnectDevices xmlns=\"urn:mtconnect.org:MTConnectDevices:1.6\">\n";
-
 INSTANTIATE_TEST_SUITE_P(
     Table, MalformedDevices,
     ::testing::Values(

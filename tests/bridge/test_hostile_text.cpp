@@ -139,5 +139,22 @@ TEST(HostileText, StatesOutsideTheVocabularyReadUnavailable) {
   EXPECT_EQ(back.text("//DeviceStream[@uuid='robot-0001']//MaterialLoad"), "ACTIVE");
 }
 
+// Found by tests/fuzz (fuzz_bridge_config): a Sender that is not UTF-8 was
+// accepted, and the 1.8 probe printed it raw in its Agent's uuid. The config
+// refuses one now; a program that sets AgentOptions itself still gets valid
+// documents.
+TEST(HostileText, ASenderThatIsNotUtf8KeepsTheProbeValid) {
+  AgentOptions options = test::cell_options(SchemaVersion::V1_8, 64);
+  options.sender = "cell\xA6";
+  auto agent = make_agent(options);
+  agent->add_device(test::robot());
+  const Response probe = test::get(*agent, "/probe");
+  EXPECT_EQ(find_unfit_xml_char(probe.body), std::string::npos) << probe.body.substr(0, 2000);
+  // (Not xmllint: only 1.6's schemas accept every interface type.)
+  test::Doc d(probe.body);
+  ASSERT_TRUE(d.ok);
+  EXPECT_EQ(d.count("//*[local-name()='Agent' and @uuid='cell\xEF\xBF\xBD-agent']"), 1U);
+}
+
 }  // namespace
 }  // namespace mtc::bridge

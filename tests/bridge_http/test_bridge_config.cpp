@@ -192,7 +192,9 @@ INSTANTIATE_TEST_SUITE_P(
                   "agent.cfg:2: block 'Adapters' is never closed"},
         Malformed{"Port = 1 }", "agent.cfg:1: unexpected '}'"},
         Malformed{"# ok\nAllowPutt = true", "agent.cfg:2: unknown key 'AllowPutt'"},
-        Malformed{"Sender = a\x01z", "agent.cfg:1: Sender contains control"}),
+        Malformed{"Sender = a\x01z", "agent.cfg:1: Sender contains control"},
+        // Found by tests/fuzz (fuzz_bridge_config): it reached documents.
+        Malformed{"Sender = cel\xA6 bridge", "agent.cfg:1: Sender is not UTF-8 text"}),
     [](const ::testing::TestParamInfo<Malformed>& param_info) {
       return mtc::test::param_name(param_info.index, param_info.param.text);
     });

@@ -4,6 +4,7 @@
 #   cmake -DCOMPONENT=dds "-DMUST_NOT_NEED=pugixml;Boost" -DPREFIX=<prefix>
 #         -DPACKAGE_DIR=<prefix>/lib/cmake/mtconnect-dds
 #         -DSOURCE_DIR=<consumer> -DWORK_DIR=<build> -DCXX=<compiler>
+#         [-DCXX_FLAGS=<flags of a sanitizer build, compile and link>]
 #         -P build_consumer.cmake
 foreach(var COMPONENT PREFIX PACKAGE_DIR SOURCE_DIR WORK_DIR CXX)
   if(NOT DEFINED ${var})
@@ -30,6 +31,8 @@ file(REMOVE_RECURSE ${WORK_DIR})
 # mtconnect-dds_DIR points into the prefix.
 run(configure ${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}
   -DCMAKE_CXX_COMPILER=${CXX}
+  "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}"
+  "-DCMAKE_EXE_LINKER_FLAGS=${CXX_FLAGS}"
   -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF
   -DCMAKE_PREFIX_PATH=${PREFIX}
   -Dmtconnect-dds_DIR=${PACKAGE_DIR}

@@ -127,9 +127,10 @@ start_bridge "$work/bridge-pull.log"
 bg_on "$work/stream.xml" bridge curl -sS -N "http://127.0.0.1:$port/sample?interval=50&heartbeat=1000&count=1000"
 stream_pid=$last_pid
 faults=0 survived=0
-figures=""
+figures="" back_figures=""
 ms_between() { echo $((($2 - $1) / 1000000)); }
 line_time() { grep -m1 -E "$2" "$1" | awk '{print $NF}'; }
+ready_after_fail() { awk '/^STATE FAIL/ { f = 1 } f && /^STATE READY/ { print $NF; exit }' "$1"; }
 for step in 1 2 3 4 5 6 7 8; do
   case $step in 2 | 3 | 4 | 7) robot_hold=$step machine_hold=0 holder=robot ;;
     *) robot_hold=0 machine_hold=$step holder=machine ;; esac
@@ -171,6 +172,7 @@ for step in 1 2 3 4 5 6 7 8; do
   # Out for the participant lease (2 s) + 1 s, so every pull takes the same
   # path: both sides drop each other's participant and rediscover it.
   while [ $((($(date +%s%N) - cut) / 1000000)) -lt $((participant_lease_ms + 1000)) ]; do sleep 0.1; done
+  back=$(date +%s%N)
   "$topo" link "$work/topo" robot up || fail "link up"
   timeout 45 tail --pid="$machine" -f /dev/null || fail "step $step: requester still running after 45 s"
   wait "$machine"; rc=$?
@@ -180,11 +182,16 @@ for step in 1 2 3 4 5 6 7 8; do
   awk '/^STATE FAIL/ { f = 1 } f && /^STATE READY/ { ok = 1 } END { exit !ok }' "$rlog" ||
     fail "step $step: robot never back to READY after FAIL"
   stop "$robot"
+  # From the cable back in to each side's first READY after its FAIL.
+  robot_back_ms=$(ms_between "$back" "$(ready_after_fail "$rlog")")
+  machine_back_ms=$(ms_between "$back" "$(ready_after_fail "$mlog")")
   [ "$robot_ms" -le "$bound_ms" ] || fail "step $step: robot FAIL after $robot_ms ms (> $bound_ms)"
   [ "$machine_ms" -le "$bound_ms" ] || fail "step $step: machine FAIL after $machine_ms ms (> $bound_ms)"
   survived=$((survived + 1))
   figures+="$step:$robot_ms/$machine_ms "
-  echo "$(date +%T) step $step: cut; robot FAIL after $robot_ms ms, machine FAIL after $machine_ms ms; recovered; next handshake COMPLETED"
+  back_figures+="$step:$robot_back_ms/$machine_back_ms "
+  echo "$(date +%T) step $step: cut; robot FAIL after $robot_ms ms, machine FAIL after $machine_ms ms;" \
+    "READY again $robot_back_ms / $machine_back_ms ms after the cable was back; next handshake COMPLETED"
 done
 sleep 0.5  # let the last part of the stream out (interval 50 ms)
 kill -TERM "$stream_pid" 2>/dev/null
@@ -193,5 +200,5 @@ kill -TERM "$stream_pid" 2>/dev/null
 lost=$(python3 "$here/check_stream.py" "$work/stream.xml" "$work"/pull?-machine.log) ||
   fail "stream check: $lost"
 echo "multihost summary: faults injected $faults, survived $survived, transitions lost $lost;" \
-  "detection ms (step:robot/machine) $figures"
+  "detection ms (step:robot/machine) $figures; cable back to READY ms (step:robot/machine) $back_figures"
 [ "$lost" = 0 ] || fail "$lost transitions missing from the stream"

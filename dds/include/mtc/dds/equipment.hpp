@@ -202,6 +202,11 @@ struct Traffic {
   std::uint64_t heartbeats_written = 0;
   std::uint64_t values_received = 0;
   std::uint64_t heartbeats_received = 0;
+  // Passes that announced every endpoint of the participant again (after a
+  // lost counterpart, and in the background; docs/multihost.md, "Cable
+  // pull"), and how many endpoints the latest one announced.
+  std::uint64_t reannounce_passes = 0;
+  std::uint64_t endpoints_reannounced = 0;
 };
 
 struct EquipmentOptions {

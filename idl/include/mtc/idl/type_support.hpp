@@ -20,6 +20,7 @@
 
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
+#include <fastcdr/exceptions/Exception.h>
 #include <fastrtps/utils/md5.h>
 
 #include <array>
@@ -61,6 +62,19 @@ class SpecKeyType final : public PubSub {
     if (Sample::getKeyMaxCdrSerializedSize() > kMaxKeyBytes) {
       throw std::logic_error("mtc::idl::SpecKeyType: the key of " + std::string(this->getName()) +
                              " can exceed kMaxKeyBytes");
+    }
+  }
+
+  // The generated deserialize() turns only a short payload into `false`;
+  // any other malformed one (a bad encapsulation header, a string longer
+  // than its bound) throws out of the reader's take() and terminates the
+  // process. Bytes a peer sent must never do that: they are refused, and the
+  // reader drops the sample.
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override {
+    try {
+      return PubSub::deserialize(payload, data);
+    } catch (const eprosima::fastcdr::exception::Exception&) {
+      return false;
     }
   }
 

@@ -62,6 +62,13 @@ struct FaultInjection {
   // a cable pull that affects only this participant (the process-wide
   // test_UDPv4Transport_ShutdownAllNetwork would cut every participant).
   std::shared_ptr<std::atomic<bool>> outage;
+  // While *drop_discovery_preemptive_acknacks is true, the ACKNACKs with
+  // sequence number base 0 of this participant's endpoint-discovery readers
+  // are dropped: the request for every endpoint announcement a newly
+  // (re)discovered participant makes before its first discovery heartbeat
+  // arrives. Losing it is what a cable pull occasionally does by a race
+  // (docs/multihost.md, "Cable pull"); this makes it certain.
+  std::shared_ptr<std::atomic<bool>> drop_discovery_preemptive_acknacks;
 };
 
 struct ParticipantConfig {

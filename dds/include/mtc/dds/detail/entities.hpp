@@ -74,6 +74,17 @@ class Publisher {
   Publisher(const Publisher&) = delete;
   Publisher& operator=(const Publisher&) = delete;
   fdds::Publisher& get() const noexcept { return *publisher_; }
+  // Announces every writer of this publisher again under the same GUID and
+  // returns how many. Fast DDS 2.9.1 never re-sends an endpoint announcement
+  // a remote participant acknowledged before it dropped us, unless that
+  // participant's first request after rediscovery wins a race with our
+  // discovery heartbeat (docs/multihost.md, "Cable pull"): a fresh
+  // announcement makes the oldest one in our discovery history newer than
+  // anything it acknowledged, so it gets every announcement again. Setting
+  // the publisher's own QoS again does that for each writer (peers see a QoS
+  // update, not a new match) and writes no writer state, unlike
+  // DataWriter::set_qos, which may race a write on another thread.
+  std::size_t reannounce();
 
  private:
   Participant& participant_;
@@ -87,6 +98,8 @@ class Subscriber {
   Subscriber(const Subscriber&) = delete;
   Subscriber& operator=(const Subscriber&) = delete;
   fdds::Subscriber& get() const noexcept { return *subscriber_; }
+  // Publisher::reannounce for every reader of this subscriber.
+  std::size_t reannounce();
 
  private:
   Participant& participant_;

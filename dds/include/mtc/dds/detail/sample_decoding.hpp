@@ -1,0 +1,32 @@
+// Received samples as core values: the conversion every reader's listener
+// applies to what a peer sent before handing it on. Plain functions of the
+// sample's fields (no DDS entity involved), so tests and the fuzz target
+// (tests/fuzz/fuzz_dds_samples.cpp) can feed them any value a peer may send:
+// enum numbers outside the vocabulary, any string, any sequence number.
+#pragma once
+
+#include <cstddef>
+
+#include "mtc/core/observation.hpp"
+#include "mtc/idl/mtconnect_interfaces.h"
+
+namespace mtc::dds::detail {
+
+// A state outside its vocabulary stays distinguishable
+// (ObservedState::in_vocabulary() false, raw() as sent); a service or
+// subType outside its vocabulary is left unset.
+core::ObservedValue decode_sample(const idl::InteractionSample& sample);
+core::ObservedValue decode_sample(const idl::InterfaceStateSample& sample);
+core::ObservedValue decode_sample(const idl::DoorStateSample& sample);
+core::ObservedValue decode_sample(const idl::ChuckStateSample& sample);
+// An interface type outside the vocabulary reads MaterialHandler.
+core::ObservedDevice decode_sample(const idl::DeviceDescription& sample);
+
+// The tap's topic rule for a decoded interaction value that arrived on the
+// interaction topic of index `topic` (request topics first, one per service,
+// then the response topics): false when its service and sub-type name
+// another topic, and the tap refuses it. A value without a service or
+// sub-type passes here; the peer checks report and drop it.
+bool on_its_interaction_topic(const core::ObservedValue& value, std::size_t topic);
+
+}  // namespace mtc::dds::detail
