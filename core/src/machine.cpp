@@ -136,6 +136,8 @@ bool ServiceMachine::guard_holds(Guard g) const noexcept {
       return !fail_acknowledged();
     case Guard::CounterpartFailPending:
       return fail_pending_;
+    case Guard::LateAcknowledgement:
+      return late_ack_ && counterpart_ == InteractionState::Fail;
   }
   return false;
 }
@@ -165,6 +167,15 @@ Phase ServiceMachine::resolve(Target t) const noexcept {
 
 void ServiceMachine::enter(Phase next, TimePoint now) noexcept {
   if (next == phase_) return;
+  // Leaving FAIL without its acknowledgement (fail_ack waived the wait):
+  // the counterpart may still answer it, late. A new handshake or a new
+  // FAIL ends that wait.
+  if (phase_ == Phase::Fail) {
+    ack_owed_ = !acknowledged_ && ack_waived_;
+  } else if (next == Phase::Active || next == Phase::Complete || next == Phase::Fail) {
+    ack_owed_ = false;
+    late_ack_ = false;
+  }
   phase_ = next;
   since_ = now;
   switch (next) {
@@ -193,6 +204,7 @@ void ServiceMachine::apply_effects(Event event, Phase before, Notice notice) noe
     counterpart_engaged_ = true;
   }
   if (notice == Notice::FailAcknowledged) acknowledged_ = true;
+  if (notice == Notice::FailAcknowledged && before != Phase::Fail) ack_owed_ = false;
   if (event == Event::SeenUnavailable && before == Phase::Fail) acknowledged_ = false;
   if (event == Event::FailAckTimeout && notice == Notice::TimedOut) ack_waived_ = true;
   if (event == Event::CompletionAckTimeout && notice == Notice::TimedOut) {
@@ -222,6 +234,23 @@ StepResult ServiceMachine::step(Event event, TimePoint now) noexcept {
     // already acknowledged, the counterpart has failed anew (it recovered
     // and failed again while we were still in FAIL): we answer that after
     // our own recovery (see next_deadline).
+    //
+    // After we left FAIL by the fail_ack limit, unacknowledged, the next
+    // FAIL of the counterpart while we are idle is that acknowledgement,
+    // late, not a new failure: failing again for it would fail the
+    // handshake the counterpart starts next (issue 10: a requester restarted
+    // while the responder's FAIL waited for it, whose FAIL arrived after the
+    // responder's fail_ack expired, failed its first request). A handshake
+    // step of the counterpart in between means it moved on. It may still
+    // be a new failure that waits for our acknowledgement: if the
+    // counterpart is still FAIL after the fail_ack limit, we answer it then
+    // (reaction_at), as any pending reaction.
+    const bool idle = phase_ == Phase::Ready || phase_ == Phase::NotReady;
+    if (observed == InteractionState::Active || observed == InteractionState::Complete) {
+      ack_owed_ = false;
+    }
+    late_ack_ = observed == InteractionState::Fail && ack_owed_ && idle;
+    if (late_ack_) late_ack_until_ = now + options_.limits.fail_ack;
     fail_pending_ = observed == InteractionState::Fail && (phase_ != Phase::Fail || acknowledged_);
   }
   const TransitionTable table = role_ == Role::Requester ? requester_table() : responder_table();
@@ -325,6 +354,12 @@ static Armed earliest(const ServiceMachine& m, bool engaged, bool acked, bool re
 // A counterpart FAIL still waiting for our reaction while we are idle (we
 // were in FAIL ourselves when it began): react at once, on the next tick, so
 // that READY is published before FAIL and the counterpart sees a change.
+// When a due reaction runs: at once, or, for a FAIL taken for a late
+// acknowledgement, once the counterpart stayed FAIL for the fail_ack limit.
+TimePoint ServiceMachine::reaction_at() const noexcept {
+  return late_ack_ ? std::max(late_ack_until_, since_) : since_;
+}
+
 bool ServiceMachine::reaction_due() const noexcept {
   const bool idle = phase_ == Phase::Ready || phase_ == Phase::NotReady;
   const bool reacts = role_ == Role::Responder || options_.profile != Profile::V1_3;
@@ -332,12 +367,12 @@ bool ServiceMachine::reaction_due() const noexcept {
 }
 
 TimePoint ServiceMachine::next_deadline() const noexcept {
-  if (reaction_due()) return since_;
+  if (reaction_due()) return reaction_at();
   return earliest(*this, counterpart_engaged_, fail_acknowledged(), completion_ack_reported_).at;
 }
 
 StepResult ServiceMachine::on_tick(TimePoint now) noexcept {
-  if (reaction_due() && since_ <= now) return step(Event::Reevaluate, now);
+  if (reaction_due() && reaction_at() <= now) return step(Event::Reevaluate, now);
   const Armed armed =
       earliest(*this, counterpart_engaged_, fail_acknowledged(), completion_ack_reported_);
   if (armed.at > now) return make_result(Event::Reevaluate, phase_, Notice::None, Reason::None);

@@ -56,6 +56,7 @@ constexpr std::array kRequesterRows{
     row(P::Ready, E::SeenComplete, T::Fail, N::ProtocolViolation, R::CompleteWithoutRequest),
     // Table 5 condition 2 (1.6); 1.3 only returns to / stays READY.
     row(P::Ready, E::SeenFail, G::V13, T::Stay, N::CounterpartFailed, R::CounterpartFail),
+    row(P::Ready, E::SeenFail, G::LateAcknowledgement, T::Stay, N::FailAcknowledged),
     row(P::Ready, E::SeenFail, T::Fail, N::CounterpartFailed, R::CounterpartFail),
 
     // NOT_READY
@@ -69,6 +70,7 @@ constexpr std::array kRequesterRows{
     row(P::NotReady, E::SeenActive, T::Fail, N::ProtocolViolation, R::ActiveWithoutRequest),
     row(P::NotReady, E::SeenComplete, T::Fail, N::ProtocolViolation, R::CompleteWithoutRequest),
     row(P::NotReady, E::SeenFail, G::V13, T::Stay, N::CounterpartFailed, R::CounterpartFail),
+    row(P::NotReady, E::SeenFail, G::LateAcknowledgement, T::Stay, N::FailAcknowledged),
     row(P::NotReady, E::SeenFail, T::Fail, N::CounterpartFailed, R::CounterpartFail),
 
     // ACTIVE: waiting for the response to go ACTIVE, then COMPLETE.
@@ -123,6 +125,7 @@ constexpr std::array kResponderRows{
         R::PreconditionNotMet),
     row(P::Ready, E::SeenActive, T::Stay, N::RequestObserved),  // Table 1 step 2
     row(P::Ready, E::SeenComplete, T::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+    row(P::Ready, E::SeenFail, G::LateAcknowledgement, T::Stay, N::FailAcknowledged),
     row(P::Ready, E::SeenFail, T::Fail, N::CounterpartFailed, R::CounterpartFail),
 
     // NOT_READY
@@ -136,6 +139,7 @@ constexpr std::array kResponderRows{
     row(P::NotReady, E::Reevaluate, G::WantsReady, G::Permitted, T::Ready, N::ReadinessChanged),
     row(P::NotReady, E::SeenActive, T::Stay, N::RequestObserved, R::NotReady),
     row(P::NotReady, E::SeenComplete, T::Fail, N::ProtocolViolation, R::CompleteOnRequest),
+    row(P::NotReady, E::SeenFail, G::LateAcknowledgement, T::Stay, N::FailAcknowledged),
     row(P::NotReady, E::SeenFail, T::Fail, N::CounterpartFailed, R::CounterpartFail),
 
     // ACTIVE: performing the service.

@@ -1,5 +1,6 @@
 #include "domain_tap.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
@@ -166,8 +167,16 @@ class TapListener final : public fdds::DataReaderListener {
         }
       }
       counters_.values.fetch_add(1, std::memory_order_relaxed);
-      sink_(ValueEvent{kind_, to_handle(info.publication_handle), to_handle(info.instance_handle),
-                       std::move(value)});
+      ValueEvent event{kind_,
+                       to_handle(info.publication_handle),
+                       to_handle(info.instance_handle),
+                       std::move(value),
+                       {}};
+      if constexpr (std::is_same_v<Sample, idl::InteractionSample>) {
+        std::copy(s.paired_participant().begin(), s.paired_participant().end(),
+                  event.paired.begin());
+      }
+      sink_(std::move(event));
     }
   }
 

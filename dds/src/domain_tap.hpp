@@ -81,6 +81,9 @@ struct ValueEvent {
   Handle writer{};
   Handle instance{};
   ObservedValue value;
+  // Interaction values: the counterpart participant the writer was paired
+  // with when it wrote the value (all zero: none, or another kind of item).
+  ParticipantKey paired{};
 };
 struct HeartbeatEvent {
   Handle writer{};

@@ -1,10 +1,15 @@
 #include "mtc/dds/detail/entities.hpp"
 
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+
+#include <algorithm>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <iostream>
+#include <memory>
 
 #include "mtc/dds/detail/return_code.hpp"
 #include "mtc/qos/participant_qos.hpp"
+#include "mtc/qos/shared_memory.hpp"
 
 namespace mtc::dds::detail {
 
@@ -18,9 +23,24 @@ void report(const ReturnCode& code, const char* what) {
   }
 }
 
+// The builtin transports include shared memory, and so may a user's list.
+bool uses_shared_memory(const fdds::DomainParticipantQos& qos) {
+  const auto& transport = qos.transport();
+  if (transport.use_builtin_transports) return true;
+  return std::any_of(
+      transport.user_transports.begin(), transport.user_transports.end(), [](const auto& t) {
+        return std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(
+                   t) != nullptr;
+      });
+}
+
 }  // namespace
 
 Participant::Participant(int domain_id, const fdds::DomainParticipantQos& qos) {
+  // A process SIGKILLed on this host left its segments in /dev/shm for good
+  // (Fast DDS never looks at them again): remove the dead ones before
+  // adding our own (qos/shared_memory.hpp; issue 10).
+  if (uses_shared_memory(qos)) qos::remove_stale_shared_memory_once();
   fdds::DomainParticipantQos anchored = qos;
   qos::anchor_discovery_port(anchored, domain_id);
   participant_ =

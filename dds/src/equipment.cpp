@@ -119,6 +119,7 @@ void Requester::request(RequestOptions options,
   const auto slot = slot_;
   impl_.run<void>([impl, slot, options, cb = std::move(on_result)]() mutable {
     auto& s = *impl->slots[slot];
+    impl->check_own_silence();  // before trusting what we last saw
     const auto now = SteadyClock::now();
     auto reject = [&](core::Reason reason) {
       RequestResult r{Outcome::Rejected, reason, {}};

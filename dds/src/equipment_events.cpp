@@ -14,6 +14,7 @@ namespace mtc::dds {
 using detail::TopicKind;
 
 void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
+  check_own_silence();
   std::visit(
       [this, group](auto& e) {
         using T = std::decay_t<decltype(e)>;
@@ -97,23 +98,35 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
     }
     if (itf->cp_uuid != v.device_uuid || itf->cp_interface != v.interface_id) continue;
+    // Not an answer to us: the counterpart states its values again for us
+    // once it has taken us for its counterpart (note_counterpart_value).
+    if (written_for_predecessor(*itf, v, e.paired)) continue;
     take_counterpart_value(*itf, e.writer, v, missed_change);
   }
   // After the interfaces: a pairing above replays what was seen before.
-  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v};
+  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v, e.paired};
 }
 
 // Remembers a counterpart value (the last of each item is fed again after a
 // loss) and which heartbeat vouches for it. A value of another incarnation
-// of the counterpart (restarted under the same uuid) voids what was known.
+// of the counterpart (restarted under the same uuid) voids what was known,
+// and our own values are stated again for it: what we wrote before named its
+// predecessor, which it does not take for an answer (scenario 6: it must
+// not trust a READY written before we knew of it).
 void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
                                            const ObservedValue& v) {
   const auto key = detail::PeerGroups::key_of(writer, v.device_uuid, v.heartbeat_group);
-  if (!itf.cp_group || itf.cp_group->participant != key.participant) {
+  const bool new_incarnation = !itf.cp_group || itf.cp_group->participant != key.participant;
+  // Its predecessor is gone, whether or not its silence was noticed yet (a
+  // device that never got its announcement through takes no ownership
+  // check): scenario 6, before anything of the new one is taken.
+  if (new_incarnation && itf.cp_group) link_lost(itf, "counterpart restarted (a new participant)");
+  if (new_incarnation) {
     itf.cp_values.clear();
     itf.cp_stale.clear();
   }
   itf.cp_group = key;
+  if (new_incarnation && started) publish_pairing(itf);
   itf.cp_values[v.data_item_id] = v;
   itf.cp_stale.erase(v.data_item_id);
   itf.last_heard_ns = std::max(itf.last_heard_ns, v.reception_time_ns);

@@ -192,6 +192,7 @@ struct EquipmentImpl {
   struct SeenValue {
     detail::Handle writer{};
     ObservedValue value;
+    detail::ParticipantKey paired{};
   };
   std::map<std::pair<std::string, std::string>, SeenValue> seen_values;
 
@@ -202,6 +203,8 @@ struct EquipmentImpl {
   // DDS entities, declaration order = creation order (destroyed in reverse).
   detail::Executor executor;
   std::unique_ptr<Participant> participant;
+  // Per timing group: the beginning of the last own silence acted upon.
+  std::vector<detail::HeartbeatThread::Clock::time_point> own_silence_handled;
   std::unique_ptr<detail::TopicSet> topics;
   std::unique_ptr<Publisher> publisher;
   struct QuietWriterListener : fdds::DataWriterListener {};
@@ -269,8 +272,8 @@ struct EquipmentImpl {
   // --- DDS events (equipment_events.cpp) ---
   void on_event(std::size_t group, detail::TapEvent& event);
   void on_value(std::size_t group, detail::ValueEvent& e);
-  static void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
-                                     const ObservedValue& v);
+  void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
+                              const ObservedValue& v);
   void deliver(InterfaceSlot& itf, const ObservedValue& v, bool missed_change);
   void on_heartbeat(std::size_t group, detail::HeartbeatEvent& e);
   void redeliver_stale(InterfaceSlot& itf);
@@ -321,9 +324,19 @@ struct EquipmentImpl {
   void unpair(InterfaceSlot& itf, const std::string& cause);
   void exclude(InterfaceSlot& itf, const ObservedValue& v);
   void readmit(InterfaceSlot& itf);
-  // Our pairing changed: every interaction item of the interface is written
+  // Our pairing changed, or our counterpart is a new participant (restarted
+  // under its uuid): every interaction item of the interface is written
   // again (same value and source time) naming it.
   void publish_pairing(InterfaceSlot& itf);
+  // An interaction value naming our interface but another participant of
+  // our uuid: written for a previous incarnation of this device.
+  bool written_for_predecessor(const InterfaceSlot& itf, const ObservedValue& v,
+                               const detail::ParticipantKey& paired) const noexcept;
+  // Scenario 6 is symmetric: when our own heartbeats stopped long enough for
+  // a counterpart to declare us lost (this process was stopped, starved or
+  // hung), we take that counterpart as lost too, before acting on anything
+  // it said before the gap (values that waited in our sockets meanwhile).
+  void check_own_silence();
   void diagnostic(const std::string& text);
   // False (reported once) when `writer` is not of the participant that
   // announced `device`; an announcement claims an unowned device.

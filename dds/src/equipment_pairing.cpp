@@ -105,6 +105,7 @@ void EquipmentImpl::replay_seen_values(InterfaceSlot& itf) {
   });
   for (const auto* s : known) {
     if (s->value.state.interface_state() == core::InterfaceState::Unavailable) continue;
+    if (written_for_predecessor(itf, s->value, s->paired)) continue;
     take_counterpart_value(itf, s->writer, s->value, false);
   }
 }

@@ -288,6 +288,10 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
     s.paired_device_uuid(itf.cp_uuid);
     s.paired_interface_id(itf.cp_interface);
   }
+  if (itf.cp_group) {
+    std::copy(itf.cp_group->participant.begin(), itf.cp_group->participant.end(),
+              s.paired_participant().begin());
+  }
   w.writer->write(s);
   wrote_interaction(g, slot.topic, w.seq);
   bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response, slot.topic);

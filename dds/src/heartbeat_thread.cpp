@@ -29,6 +29,8 @@ HeartbeatThread::HeartbeatThread(std::vector<Group> groups, const Executor& exec
     : groups_(std::move(groups)),
       next_(groups_.size(), Clock::now()),
       withheld_(groups_.size(), false),
+      last_beat_(groups_.size(), Clock::now()),
+      longest_gap_(groups_.size()),
       executor_(executor),
       report_(std::move(report)) {
   thread_ = std::thread([this] { run(); });
@@ -50,6 +52,16 @@ void HeartbeatThread::stop() {
 bool HeartbeatThread::realtime() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return realtime_;
+}
+
+HeartbeatThread::Silence HeartbeatThread::take_silence(std::size_t group, Clock::time_point now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Silence ongoing{now > last_beat_[group] ? now - last_beat_[group] : Clock::duration{},
+                  last_beat_[group]};
+  const Silence longest =
+      longest_gap_[group].length > ongoing.length ? longest_gap_[group] : ongoing;
+  longest_gap_[group] = Silence{};
+  return longest;
 }
 
 void HeartbeatThread::run() {
@@ -87,6 +99,12 @@ void HeartbeatThread::beat_group(std::size_t index, Clock::time_point now) {
     }
     try {
       g.beat();
+      const auto written = Clock::now();
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (written - last_beat_[index] > longest_gap_[index].length) {
+        longest_gap_[index] = Silence{written - last_beat_[index], last_beat_[index]};
+      }
+      last_beat_[index] = written;
     } catch (const std::exception& e) {
       report_("heartbeat group " + std::to_string(index) + ": " + e.what());
     }

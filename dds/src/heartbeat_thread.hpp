@@ -51,6 +51,18 @@ class HeartbeatThread {
   void stop();
   // Whether the thread got SCHED_FIFO (known once it has started).
   bool realtime() const;
+  // The longest time a group went without a heartbeat written since the
+  // last call (or start), counting the time since its newest one, and when
+  // that silence began (one silence, one beginning, however often it is
+  // asked for): any thread. Longer than the group's lease, less half a
+  // heartbeat, and its counterparts may have declared this equipment lost
+  // (the process was stopped, starved, or its executor hung and the
+  // watchdog withheld).
+  struct Silence {
+    Clock::duration length{};
+    Clock::time_point since{};
+  };
+  Silence take_silence(std::size_t group, Clock::time_point now);
 
  private:
   void run();
@@ -59,6 +71,10 @@ class HeartbeatThread {
   std::vector<Group> groups_;
   std::vector<Clock::time_point> next_;
   std::vector<bool> withheld_;
+  // Per group, written under mutex_: the newest write and the longest gap
+  // between two writes not yet taken by take_silence().
+  std::vector<Clock::time_point> last_beat_;
+  std::vector<Silence> longest_gap_;
   const Executor& executor_;
   Report report_;
   mutable std::mutex mutex_;

@@ -30,7 +30,9 @@ class Recorder {
       add([&] { transitions_.push_back(e); });
     };
     cb.on_link = [this](const LinkEvent& e) { add([&] { links_.push_back(e); }); };
-    cb.on_counterpart_value = [this](const ObservedValue&) { add([] {}); };
+    cb.on_counterpart_value = [this](const ObservedValue& v) {
+      add([&] { values_.push_back(v); });
+    };
     cb.on_diagnostic = [this](const std::string& d) { add([&] { diagnostics_.push_back(d); }); };
     return cb;
   }
@@ -59,6 +61,11 @@ class Recorder {
   std::vector<LinkEvent> links() {
     std::lock_guard<std::mutex> lock(mutex_);
     return links_;
+  }
+  // Every counterpart value handed to the application, in order.
+  std::vector<ObservedValue> values() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return values_;
   }
   // Everything seen, for failure messages.
   std::string dump() {
@@ -90,6 +97,15 @@ class Recorder {
         },
         timeout);
   }
+  // Waits for a transition that `match` accepts (called under the lock:
+  // it must not call the Recorder).
+  template <typename Match>
+  bool wait_transition(Match match, std::chrono::milliseconds timeout = kTimeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, timeout, [&] {
+      return std::any_of(transitions_.begin(), transitions_.end(), match);
+    });
+  }
   bool saw_notice(core::Notice n, core::Reason r) {
     std::lock_guard<std::mutex> lock(mutex_);
     return saw_notice_locked(n, r);
@@ -117,6 +133,7 @@ class Recorder {
   std::condition_variable cv_;
   std::vector<TransitionEvent> transitions_;
   std::vector<LinkEvent> links_;
+  std::vector<ObservedValue> values_;
   std::vector<std::string> diagnostics_;
 };
 

@@ -84,6 +84,38 @@ TEST(PairingRule, LowestCandidateWinsTheOtherIsExcluded) {
   EXPECT_EQ(load2.request(wait).get().outcome, Outcome::Excluded);
 }
 
+// A requester that comes after the pairing and its first handshake is
+// excluded too: the responder's values now name its counterpart's
+// participant as well (issue 10's paired_participant), and a value naming
+// another interface excludes whatever participant it names. Only a value
+// naming our own interface with another participant (written for a previous
+// process of our uuid) is ignored instead.
+TEST(PairingRule, ARequesterArrivingAfterAHandshakeIsExcluded) {
+  constexpr int kDomain = 149;
+  Recorder machine_rec;
+  Recorder rec2;
+  Equipment machine(settled(kDomain, "m-l"), machine_rec.callbacks());
+  Equipment robot1(options(kDomain, "robot-l1"));
+  machine.add_interface({"mh", InterfaceType::MaterialHandler, "", {}});
+  ResponderCallbacks serve;
+  serve.on_request = [](Responder& r) { r.complete(); };
+  machine.add_responder("mh", Service::MaterialLoad, serve);
+  robot1.add_interface({"mh", InterfaceType::MaterialHandler, "", {"m-l", ""}});
+  auto& load1 = robot1.add_requester("mh", Service::MaterialLoad);
+  machine.start();
+  robot1.start();
+  RequestOptions wait;
+  wait.wait_for_ready = 15s;
+  ASSERT_EQ(load1.request(wait).get().outcome, Outcome::Completed) << machine_rec.dump();
+  Equipment robot2(options(kDomain, "robot-l2"), rec2.callbacks());
+  robot2.add_interface({"mh", InterfaceType::MaterialHandler, "", {"m-l", ""}});
+  auto& load2 = robot2.add_requester("mh", Service::MaterialLoad);
+  robot2.start();
+  EXPECT_EQ(load2.request(wait).get().outcome, Outcome::Excluded) << rec2.dump();
+  EXPECT_EQ(excluded_cause(rec2), "m-l/mh is paired with robot-l1/mh") << rec2.dump();
+  EXPECT_FALSE(went_active(rec2)) << rec2.dump();
+}
+
 // The pairing holds until the paired device leaves: then the responder
 // chooses among those still there, and the one left out is served.
 TEST(PairingRule, PairingHoldsUntilThePairedDeviceLeaves) {

@@ -195,6 +195,24 @@ void ChildProcess::send_signal(int signal_number) {
   }
 }
 
+bool ChildProcess::wait_stopped() {
+  while (running()) {
+    int status = 0;
+    const pid_t r = waitpid(pid_, &status, WUNTRACED);
+    if (r < 0 && errno == EINTR) {
+      continue;
+    }
+    if (r != pid_) {
+      return false;
+    }
+    if (WIFSTOPPED(status)) {
+      return true;
+    }
+    exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+  return false;
+}
+
 void ChildProcess::reap(bool block) {
   int status = 0;
   const pid_t r = waitpid(pid_, &status, block ? 0 : WNOHANG);

@@ -40,6 +40,10 @@ class ChildProcess {
   const std::vector<std::string>& lines() const { return out_lines_; }
 
   void send_signal(int signal_number);
+  // Blocks until the child is stopped (SIGSTOP, raised by itself or sent):
+  // true, or false when it terminated instead. Call only when it is about to
+  // stop or has (e.g. after a line that says so).
+  bool wait_stopped();
   // Exit code, 128 + signal when killed by a signal, nullopt at timeout. Reads
   // the remaining output on the way.
   std::optional<int> wait_exit(milliseconds timeout);

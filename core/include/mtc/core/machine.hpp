@@ -94,6 +94,7 @@ class ServiceMachine {
   bool guard_holds(Guard g) const noexcept;
   bool counterpart_acknowledges(InteractionState s) const noexcept;
   bool reaction_due() const noexcept;
+  TimePoint reaction_at() const noexcept;
   Phase resolve(Target t) const noexcept;
   void enter(Phase next, TimePoint now) noexcept;
   void apply_effects(Event event, Phase before, Notice notice) noexcept;
@@ -111,6 +112,9 @@ class ServiceMachine {
   bool acknowledged_ = false;         // our FAIL acknowledged
   bool ack_waived_ = false;           // fail_ack expired
   bool fail_pending_ = false;         // counterpart went FAIL, not yet reacted to
+  bool ack_owed_ = false;             // we left FAIL unacknowledged (wait waived)
+  bool late_ack_ = false;             // the counterpart FAIL seen idle was taken for that ack
+  TimePoint late_ack_until_{};        // ...unless it stays FAIL until then
   bool counterpart_lost_ = false;     // last counterpart value was UNAVAILABLE
   bool completion_ack_reported_ = false;
 };

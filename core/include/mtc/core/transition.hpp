@@ -59,6 +59,7 @@ enum class Guard : std::uint8_t {
   Acknowledged,      // our FAIL was acknowledged, or the wait was waived
   NotAcknowledged,
   CounterpartFailPending,  // counterpart went FAIL and we have not yet reacted
+  LateAcknowledgement,     // idle: the FAIL just seen answers our FAIL whose wait we waived
 };
 
 // Where a row leads. Idle = READY if the application wants READY and the
