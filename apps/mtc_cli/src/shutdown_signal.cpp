@@ -59,23 +59,26 @@ void ShutdownSignal::run() {
 }
 
 void ShutdownSignal::request(int signal_number) {
-  std::function<void()> listener;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!requested_) {
       signal_number_ = signal_number;
     }
     requested_ = true;
-    listener = listener_;
   }
   cv_.notify_all();
-  if (listener) {
-    listener();
+  // Called under listener_mutex_, so set_listener() (a guard going out of
+  // scope) waits for a call in progress: the listener's target (an event
+  // queue on the caller's stack) outlives every call (TSan saw a wake()
+  // still running while the queue was destroyed).
+  std::lock_guard<std::mutex> lock(listener_mutex_);
+  if (listener_) {
+    listener_();
   }
 }
 
 void ShutdownSignal::set_listener(std::function<void()> listener) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::lock_guard<std::mutex> lock(listener_mutex_);
   listener_ = std::move(listener);
 }
 

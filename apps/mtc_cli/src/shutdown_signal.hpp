@@ -35,7 +35,8 @@ class ShutdownSignal {
   // condition (e.g. a runtime callback delivered an outcome).
   void poke();
   // Called (from the signal thread) after a shutdown request, e.g. to wake an
-  // event queue that waits on its own condition variable. Set before use.
+  // event queue that waits on its own condition variable. Set before use;
+  // replacing it waits for a call in progress to return.
   void set_listener(std::function<void()> listener);
 
  private:
@@ -47,6 +48,7 @@ class ShutdownSignal {
   std::mutex mutex_;
   std::condition_variable cv_;
   std::uint64_t pokes_ = 0;
+  std::mutex listener_mutex_;  // held while the listener runs or is replaced
   std::function<void()> listener_;
   std::thread thread_;
 };

@@ -23,8 +23,9 @@ namespace asio = detail::asio;
 struct HttpServer::Impl {
   Impl(std::shared_ptr<Agent> agent, ServerOptions options)
       : ioc(static_cast<int>(options.io_threads == 0 ? 1 : options.io_threads)),
-        acceptor(ioc),
-        retry_timer(ioc),
+        accept_strand(asio::make_strand(ioc)),
+        acceptor(accept_strand),
+        retry_timer(accept_strand),
         shared(std::make_shared<detail::ServerShared>()) {
     if (!agent) {
       throw std::invalid_argument("HttpServer: no agent");
@@ -63,6 +64,10 @@ struct HttpServer::Impl {
                   std::vector<std::shared_ptr<detail::Session>>& keep) const;
 
   asio::io_context ioc;
+  // The acceptor and its retry timer are not thread-safe: every operation on
+  // them (accept, retry, close at stop) runs on this one strand, while the
+  // io threads serve connections (TSan saw stop()'s close race an accept).
+  asio::strand<asio::io_context::executor_type> accept_strand;
   tcp::acceptor acceptor;
   asio::steady_timer retry_timer;  // backs off after accept errors (EMFILE)
   std::shared_ptr<detail::ServerShared> shared;
@@ -194,7 +199,7 @@ void HttpServer::stop() {
   impl_->stopped = true;
   auto& shared = *impl_->shared;
   shared.stopping = true;
-  asio::post(impl_->ioc, [impl = impl_.get()] {
+  asio::post(impl_->accept_strand, [impl = impl_.get()] {
     boost::system::error_code ec;
     impl->acceptor.close(ec);
     impl->retry_timer.cancel();
