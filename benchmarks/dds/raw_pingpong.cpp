@@ -73,7 +73,14 @@ class Endpoint {
     const mtc::qos::EndpointQos preset = mtc::qos::state_topic(pc.timing);
 
     auto* factory = fdds::DomainParticipantFactory::get_instance();
-    participant_ = factory->create_participant(options.domain_id, pqos);
+    {
+      // Fast DDS 2.9 reads the user name with getpwuid(), which is not
+      // thread-safe, while it creates a participant; the one-process series
+      // creates both ends at once (TSan saw the two calls race).
+      static std::mutex creating;
+      const std::lock_guard<std::mutex> lock(creating);
+      participant_ = factory->create_participant(options.domain_id, pqos);
+    }
     check(participant_ != nullptr, "participant");
     check_rc(type_.register_type(participant_), "type registration");
     fdds::Topic* wtopic =

@@ -80,7 +80,12 @@ TEST(CommsLoss, ResponderKilledWhileActiveIsDetectedAndReported) {
 TEST(CommsLoss, RestartedResponderRecoversAndNoHandshakeIsLost) {
   constexpr int kDomain = 70;
   auto first = start_responder(kDomain, responder_args("60000"));
-  auto requester = start_mtc("request", kDomain, requester_args(3));
+  // The requester stays FAIL until the new responder acknowledges it, however
+  // long that process takes to start (seconds under TSan on a busy machine;
+  // with the default 2 s limit it could leave FAIL on its own first).
+  auto requester_with_patience = requester_args(3);
+  requester_with_patience.insert(requester_with_patience.end(), {"--fail-ack-timeout", "60s"});
+  auto requester = start_mtc("request", kDomain, requester_with_patience);
   ASSERT_TRUE(wait_response_active(*requester)) << requester->transcript();
   first->send_signal(SIGKILL);
   ASSERT_TRUE(wait_outcome(*requester, 1)) << requester->transcript();
