@@ -17,7 +17,8 @@
 #   --repeat MODE:N         e.g. until-fail:5
 #   -V, -VV, -N             verbose, extra verbose, list only
 # Environment: MTC_BUILD_DIR (default <repo>/build), MTC_TEST_JOBS (default 2),
-# MTC_FUZZ_SECONDS (each fuzz run, default 45); the build is scripts/build.sh's
+# MTC_FUZZ_SECONDS (each fuzz run, default 45), MTC_TEST_SLOWDOWN (sanitizer
+# runs: 2 for asan, 3 for tsan; tests/support/slowdown.hpp); the build is scripts/build.sh's
 # (same configuration as ./scripts/start.sh).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -83,6 +84,13 @@ else
   export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
   export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
   export TSAN_OPTIONS="suppressions=$supp/tsan.supp:halt_on_error=1:second_deadlock_stack=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
+  # How much slower instrumented processes start and run, for the few test
+  # waits that assume a process starts within a given time
+  # (tests/support/slowdown.hpp); never applied to asserted bounds.
+  case "$sanitize" in
+    asan) export MTC_TEST_SLOWDOWN="${MTC_TEST_SLOWDOWN:-2}" ;;
+    tsan) export MTC_TEST_SLOWDOWN="${MTC_TEST_SLOWDOWN:-3}" ;;
+  esac
 fi
 
 # Stale shared-memory segments of killed participants would confuse SHM

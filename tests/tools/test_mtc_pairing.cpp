@@ -17,13 +17,15 @@
 #include <vector>
 
 #include "mtc_fixture.hpp"
+#include "slowdown.hpp"
 
 namespace mtc::test {
 namespace {
 
 // Longer than two `mtc request` processes started back to back take to be
-// announced on a loaded 2-core machine: both are candidates every time.
-constexpr const char* kSettle = "2s";
+// announced on a loaded 2-core machine: both are candidates every time
+// (longer under the sanitizers, whose processes start several times slower).
+const std::string kSettle = as_option(slowed(std::chrono::milliseconds(2000)));
 constexpr int kRounds = 20;
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
