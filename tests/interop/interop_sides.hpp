@@ -3,7 +3,9 @@
 // hash) and QoS presets, and a Cyclone DDS side built from the types idlc
 // generates from the same IDL and the same presets mapped by mtc::qos_cyclone.
 // Writers publish in the device's partition, readers subscribe to every
-// device's ("mtc/dev/*"), as the runtime does.
+// device's ("mtc/dev/*"), as the runtime does. The Cyclone side takes the
+// topic descriptor of its type (mtc_idl_InteractionSample_desc, or that of a
+// test fixture of another version of the type under the same name).
 #pragma once
 
 #include <chrono>
@@ -17,7 +19,6 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
-#include "mtc/idl_cyclone/mtconnect_interfaces.h"
 #include "mtc/qos/cyclone_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
@@ -101,9 +102,9 @@ class FastReader : public FastSide {
 
 class CycloneSide {
  public:
-  explicit CycloneSide(int domain)
+  CycloneSide(int domain, const dds_topic_descriptor_t& type)
       : participant_(domain, qos::cyclone_loopback_config()),
-        topic_(dds_create_topic(participant_.get(), &mtc_idl_InteractionSample_desc, kTopic.c_str(),
+        topic_(dds_create_topic(participant_.get(), &type, kTopic.c_str(),
                                 qos::cyclone_topic_qos(qos::state_topic()).get(), nullptr),
                "dds_create_topic") {}
 
@@ -114,8 +115,8 @@ class CycloneSide {
 
 class CycloneWriter : public CycloneSide {
  public:
-  explicit CycloneWriter(int domain)
-      : CycloneSide(domain),
+  CycloneWriter(int domain, const dds_topic_descriptor_t& type)
+      : CycloneSide(domain, type),
         publisher_(
             dds_create_publisher(
                 participant_.get(),
@@ -140,8 +141,8 @@ class CycloneWriter : public CycloneSide {
 
 class CycloneReader : public CycloneSide {
  public:
-  explicit CycloneReader(int domain)
-      : CycloneSide(domain),
+  CycloneReader(int domain, const dds_topic_descriptor_t& type)
+      : CycloneSide(domain, type),
         subscriber_(
             dds_create_subscriber(
                 participant_.get(),

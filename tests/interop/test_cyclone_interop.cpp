@@ -77,7 +77,7 @@ FastHandle spec_key_hash(const Item& item) {
 }
 
 TEST(CycloneInterop, FastDdsWriterToCycloneReader) {
-  CycloneReader cyclone(kFastToCycloneDomain);
+  CycloneReader cyclone(kFastToCycloneDomain, mtc_idl_InteractionSample_desc);
   FastWriter fast(kFastToCycloneDomain);
   ASSERT_TRUE(wait_until([&] { return fast.matched() == 1 && cyclone.matched() == 1; }))
       << "no match: Fast DDS writer sees " << fast.matched() << ", Cyclone reader sees "
@@ -129,7 +129,7 @@ bool take_cyclone_until(dds_entity_t reader, std::multimap<dds_instance_handle_t
 // test pins both facts, so that a change in either middleware shows
 // (docs/design/middleware-layer.md, "Disposal across vendors").
 TEST(CycloneInterop, FastDdsDisposalReachesCycloneOnlyAsLossOfWriter) {
-  CycloneReader cyclone(kFastDisposalDomain);
+  CycloneReader cyclone(kFastDisposalDomain, mtc_idl_InteractionSample_desc);
   auto fast = std::make_unique<FastWriter>(kFastDisposalDomain);
   ASSERT_TRUE(wait_until([&] { return fast->matched() == 1 && cyclone.matched() == 1; }));
   auto items = test_items();
@@ -160,7 +160,7 @@ TEST(CycloneInterop, FastDdsDisposalReachesCycloneOnlyAsLossOfWriter) {
 
 TEST(CycloneInterop, CycloneWriterToFastDdsReader) {
   FastReader fast(kCycloneToFastDomain);
-  CycloneWriter cyclone(kCycloneToFastDomain);
+  CycloneWriter cyclone(kCycloneToFastDomain, mtc_idl_InteractionSample_desc);
   ASSERT_TRUE(wait_until([&] { return fast.matched() == 1 && cyclone.matched() == 1; }))
       << "no match: Cyclone writer sees " << cyclone.matched() << ", Fast DDS reader sees "
       << fast.matched();
