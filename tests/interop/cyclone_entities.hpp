@@ -9,7 +9,9 @@
 
 #include <dds/dds.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -52,5 +54,13 @@ class DomainParticipant {
   Entity domain_;
   Entity participant_;
 };
+
+// Copies `from` into a bounded IDL string of Cyclone's C types (char[bound +
+// 1]), cut at the bound and always terminated.
+template <std::size_t N>
+void copy_bounded(char (&to)[N], const std::string& from) {
+  std::memset(to, 0, N);
+  std::memcpy(to, from.data(), std::min(from.size(), N - 1));
+}
 
 }  // namespace mtc::test::cyclone

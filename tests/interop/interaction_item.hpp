@@ -11,6 +11,7 @@
 #include <string>
 #include <tuple>
 
+#include "cyclone_entities.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 #include "mtc/idl_cyclone/mtconnect_interfaces.h"
 
@@ -83,27 +84,19 @@ inline Item from_fast(const idl::InteractionSample& s) {
   return i;
 }
 
-// Copies a string into a bounded IDL string (char[N + 1]); the test values
-// fit their bounds.
-template <std::size_t N>
-void copy_bounded(char (&to)[N], const std::string& from) {
-  std::memset(to, 0, N);
-  std::memcpy(to, from.data(), std::min(from.size(), N - 1));
-}
-
 inline mtc_idl_InteractionSample to_cyclone(const Item& i) {
   mtc_idl_InteractionSample s{};
-  copy_bounded(s.device_uuid, i.device_uuid);
-  copy_bounded(s.data_item_id, i.data_item_id);
-  copy_bounded(s.interface_id, i.interface_id);
+  cyclone::copy_bounded(s.device_uuid, i.device_uuid);
+  cyclone::copy_bounded(s.data_item_id, i.data_item_id);
+  cyclone::copy_bounded(s.interface_id, i.interface_id);
   s.service = static_cast<mtc_idl_services_Service>(i.service);
   s.sub_type = static_cast<mtc_idl_sub_types_SubType>(i.sub_type);
   s.state = static_cast<mtc_idl_interaction_state_Value>(i.state);
   s.sequence_number = i.sequence_number;
   s.heartbeat_group = i.heartbeat_group;
   s.source_time_ns = i.source_time_ns;
-  copy_bounded(s.paired_device_uuid, i.paired_device_uuid);
-  copy_bounded(s.paired_interface_id, i.paired_interface_id);
+  cyclone::copy_bounded(s.paired_device_uuid, i.paired_device_uuid);
+  cyclone::copy_bounded(s.paired_interface_id, i.paired_interface_id);
   std::copy(i.paired_participant.begin(), i.paired_participant.end(), s.paired_participant);
   return s;
 }

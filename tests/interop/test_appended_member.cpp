@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <cstring>
 #include <string>
 
 #include "interaction_before_paired_participant.h"
@@ -28,17 +27,17 @@ constexpr int kWithoutToWithDomain = 199;
 // runtime fills an answer to a paired requester.
 mtc_idl_InteractionSample sample_without_member() {
   mtc_idl_InteractionSample s{};
-  std::strcpy(s.device_uuid, kDevice.c_str());
-  std::strcpy(s.data_item_id, "mh1_material_load_response");
-  std::strcpy(s.interface_id, "mh1");
+  cyclone::copy_bounded(s.device_uuid, kDevice);
+  cyclone::copy_bounded(s.data_item_id, "mh1_material_load_response");
+  cyclone::copy_bounded(s.interface_id, "mh1");
   s.service = mtc_idl_services_MATERIAL_LOAD;
   s.sub_type = mtc_idl_sub_types_RESPONSE;
   s.state = mtc_idl_interaction_state_READY;
   s.sequence_number = 3;
   s.heartbeat_group = 1;
   s.source_time_ns = 42;
-  std::strcpy(s.paired_device_uuid, "cnc-1");
-  std::strcpy(s.paired_interface_id, "mh1");
+  cyclone::copy_bounded(s.paired_device_uuid, "cnc-1");
+  cyclone::copy_bounded(s.paired_interface_id, "mh1");
   return s;
 }
 
