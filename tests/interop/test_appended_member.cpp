@@ -42,8 +42,8 @@ mtc_idl_InteractionSample sample_without_member() {
 }
 
 TEST(AppendedMember, FastDdsWithMemberToCycloneWithout) {
-  CycloneReader cyclone(kWithToWithoutDomain, mtc_idl_InteractionSample_desc);
-  FastWriter fast(kWithToWithoutDomain);
+  CycloneReader cyclone(kWithToWithoutDomain, mtc_idl_InteractionSample_desc, interaction_spec());
+  FastWriter<idl::InteractionSamplePubSubType> fast(kWithToWithoutDomain, interaction_spec());
   ASSERT_TRUE(wait_until([&] { return fast.matched() == 1 && cyclone.matched() == 1; }));
 
   const auto expected = sample_without_member();
@@ -78,8 +78,8 @@ TEST(AppendedMember, FastDdsWithMemberToCycloneWithout) {
 }
 
 TEST(AppendedMember, CycloneWithoutMemberToFastDdsWith) {
-  FastReader fast(kWithoutToWithDomain);
-  CycloneWriter cyclone(kWithoutToWithDomain, mtc_idl_InteractionSample_desc);
+  FastReader<idl::InteractionSamplePubSubType> fast(kWithoutToWithDomain, interaction_spec());
+  CycloneWriter cyclone(kWithoutToWithDomain, mtc_idl_InteractionSample_desc, interaction_spec());
   ASSERT_TRUE(wait_until([&] { return fast.matched() == 1 && cyclone.matched() == 1; }));
 
   const auto sample = sample_without_member();

@@ -77,8 +77,8 @@ FastHandle spec_key_hash(const Item& item) {
 }
 
 TEST(CycloneInterop, FastDdsWriterToCycloneReader) {
-  CycloneReader cyclone(kFastToCycloneDomain, mtc_idl_InteractionSample_desc);
-  FastWriter fast(kFastToCycloneDomain);
+  CycloneReader cyclone(kFastToCycloneDomain, mtc_idl_InteractionSample_desc, interaction_spec());
+  FastWriter<idl::InteractionSamplePubSubType> fast(kFastToCycloneDomain, interaction_spec());
   ASSERT_TRUE(wait_until([&] { return fast.matched() == 1 && cyclone.matched() == 1; }))
       << "no match: Fast DDS writer sees " << fast.matched() << ", Cyclone reader sees "
       << cyclone.matched();
@@ -129,8 +129,9 @@ bool take_cyclone_until(dds_entity_t reader, std::multimap<dds_instance_handle_t
 // test pins both facts, so that a change in either middleware shows
 // (docs/design/middleware-layer.md, "Disposal across vendors").
 TEST(CycloneInterop, FastDdsDisposalReachesCycloneOnlyAsLossOfWriter) {
-  CycloneReader cyclone(kFastDisposalDomain, mtc_idl_InteractionSample_desc);
-  auto fast = std::make_unique<FastWriter>(kFastDisposalDomain);
+  CycloneReader cyclone(kFastDisposalDomain, mtc_idl_InteractionSample_desc, interaction_spec());
+  auto fast = std::make_unique<FastWriter<idl::InteractionSamplePubSubType>>(kFastDisposalDomain,
+                                                                             interaction_spec());
   ASSERT_TRUE(wait_until([&] { return fast->matched() == 1 && cyclone.matched() == 1; }));
   auto items = test_items();
   for (const auto& item : items) fast->writer().write(to_fast(item));
@@ -159,8 +160,8 @@ TEST(CycloneInterop, FastDdsDisposalReachesCycloneOnlyAsLossOfWriter) {
 }
 
 TEST(CycloneInterop, CycloneWriterToFastDdsReader) {
-  FastReader fast(kCycloneToFastDomain);
-  CycloneWriter cyclone(kCycloneToFastDomain, mtc_idl_InteractionSample_desc);
+  FastReader<idl::InteractionSamplePubSubType> fast(kCycloneToFastDomain, interaction_spec());
+  CycloneWriter cyclone(kCycloneToFastDomain, mtc_idl_InteractionSample_desc, interaction_spec());
   ASSERT_TRUE(wait_until([&] { return fast.matched() == 1 && cyclone.matched() == 1; }))
       << "no match: Cyclone writer sees " << cyclone.matched() << ", Fast DDS reader sees "
       << fast.matched();
