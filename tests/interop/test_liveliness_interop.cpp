@@ -11,9 +11,9 @@
 // resource lock of every interop test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
-#include <algorithm>
 #include <cstdio>
 #include <thread>
 
