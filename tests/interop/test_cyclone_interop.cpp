@@ -21,8 +21,8 @@
 namespace mtc::test::interop {
 namespace {
 
-constexpr int kFastToCycloneDomain = 195;
-constexpr int kCycloneToFastDomain = 196;  // two cases, one at a time (resource lock)
+constexpr int kFastToCycloneDomain = 195;  // cases run one at a time (resource lock)
+constexpr int kCycloneToFastDomain = 196;
 constexpr int kFastDisposalDomain = 197;
 
 // What a reader got: the value (when the sample has data), its instance and
@@ -239,6 +239,58 @@ TEST(CycloneInterop, CycloneWriterLeavingIsOnlyAnUnmatchAtFastDds) {
       },
       std::chrono::seconds(1)))
       << "Fast DDS now reports a deleted writer's instances: update the design";
+}
+
+// TRANSIENT_LOCAL across vendors: a reader that joins after the writer has
+// written (and changed) its items gets each item's last value, one sample
+// per instance, as the state topics promise late joiners.
+std::array<Item, 2> changed_twice(std::array<Item, 2> items) {
+  items[0].state = 4;  // COMPLETE after ACTIVE
+  items[0].sequence_number += 1;
+  return items;
+}
+
+TEST(CycloneInterop, LateCycloneReaderGetsFastDdsLastValues) {
+  FastWriter<idl::InteractionSamplePubSubType> fast(kFastToCycloneDomain, interaction_spec());
+  const auto first = test_items();
+  const auto last = changed_twice(first);
+  for (const auto& item : first) fast.writer().write(to_fast(item));
+  fast.writer().write(to_fast(last[0]));
+
+  CycloneReader cyclone(kFastToCycloneDomain, mtc_idl_InteractionSample_desc, interaction_spec());
+  std::multimap<dds_instance_handle_t, Received> got;
+  ASSERT_TRUE(take_cyclone_until(cyclone.get(), got, [&](auto& g) { return g.size() >= 2; }))
+      << "the late reader got " << got.size() << " of 2 items";
+  std::map<std::string, Item> by_item;
+  for (const auto& [handle, r] : got) by_item[r.item.data_item_id] = r.item;
+  EXPECT_EQ(got.size(), 2U);
+  EXPECT_EQ(by_item[last[0].data_item_id], last[0]);
+  EXPECT_EQ(by_item[last[1].data_item_id], last[1]);
+}
+
+TEST(CycloneInterop, LateFastDdsReaderGetsCycloneLastValues) {
+  CycloneWriter cyclone(kCycloneToFastDomain, mtc_idl_InteractionSample_desc, interaction_spec());
+  const auto first = test_items();
+  const auto last = changed_twice(first);
+  for (const auto& item : first) {
+    const auto sample = to_cyclone(item);
+    cyclone::check(dds_write(cyclone.get(), &sample), "dds_write");
+  }
+  const auto change = to_cyclone(last[0]);
+  cyclone::check(dds_write(cyclone.get(), &change), "dds_write");
+
+  FastReader<idl::InteractionSamplePubSubType> fast(kCycloneToFastDomain, interaction_spec());
+  std::vector<std::pair<FastHandle, Received>> got;
+  ASSERT_TRUE(wait_until([&] {
+    take_fast(fast.reader(), got);
+    return got.size() >= 2;
+  })) << "the late reader got "
+      << got.size() << " of 2 items";
+  std::map<std::string, Item> by_item;
+  for (const auto& [handle, r] : got) by_item[r.item.data_item_id] = r.item;
+  EXPECT_EQ(got.size(), 2U);
+  EXPECT_EQ(by_item[last[0].data_item_id], last[0]);
+  EXPECT_EQ(by_item[last[1].data_item_id], last[1]);
 }
 
 }  // namespace
