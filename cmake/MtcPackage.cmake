@@ -27,6 +27,7 @@ set(_mtc_package_of_pugixml::pugixml "pugixml")
 set(_mtc_package_of_Boost::headers "Boost 1.74")
 set(_mtc_package_of_OpenSSL::Crypto "OpenSSL")
 set(_mtc_package_of_OpenSSL::SSL "OpenSSL")
+set(_mtc_package_of_CycloneDDS::ddsc "CycloneDDS 0.10")
 
 function(mtc_export_component target component)
   install(TARGETS ${target} EXPORT mtconnect-dds-${component}

@@ -7,9 +7,10 @@
 # RelWithDebInfo), MTC_WERROR (default ON: warnings are errors),
 # MTC_SANITIZE=asan (clang, ASan+UBSan, with the libFuzzer targets) or tsan
 # (clang, TSan): a sanitizer build (cmake/MtcSanitizers.cmake); MTC_FUZZ_SECONDS
-# (default 45): each fuzz run of an asan build (ctest label fuzz).
+# (default 45): each fuzz run of an asan build (ctest label fuzz); MTC_CYCLONE=ON
+# (or OFF): the Cyclone DDS types, QoS mapping and interop tests (label interop).
 # A build folder that is already configured keeps its configuration unless
-# MTC_BUILD_TYPE or MTC_WERROR is set: the test command (scripts/test.sh) and
+# MTC_BUILD_TYPE, MTC_WERROR or MTC_CYCLONE is set: the test command (scripts/test.sh) and
 # the main command (scripts/start.sh) both build through here, and a switch
 # that differed between them would make the second recompile everything.
 set -euo pipefail
@@ -30,6 +31,9 @@ if [ -n "${MTC_BUILD_TYPE:-}" ] || [ "$configured" = 0 ]; then
 fi
 if [ -n "${MTC_WERROR:-}" ] || [ "$configured" = 0 ]; then
   config+=(-DMTC_WERROR="${MTC_WERROR:-ON}")
+fi
+if [ -n "${MTC_CYCLONE:-}" ]; then
+  config+=(-DMTC_CYCLONE="$MTC_CYCLONE")
 fi
 # Sanitizer builds use clang (CXX is read only when a build directory is
 # first configured, so a rerun keeps its cache and objects).

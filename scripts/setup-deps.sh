@@ -27,7 +27,10 @@ PACKAGES=(
   gnuplot-nox                                              # benchmarks/run.sh latency plots (PNG);
                                                            # bookworm has no matplotlib by default
   cyclonedds-tools                                         # ddsperf: Cyclone's round trip, the
-                                                           # yardstick in mtc-bench-dds-latency
+                                                           # yardstick in mtc-bench-dds-latency;
+                                                           # idlc for -DMTC_CYCLONE=ON
+  cyclonedds-dev                                           # -DMTC_CYCLONE=ON: Cyclone DDS 0.10, the
+                                                           # second middleware (interop tests)
   chromium                                                 # the live page's browser test (headless)
   clang-format clang-tidy                                  # lint.format, lint.tidy (scripts/lint.sh)
   clang libclang-rt-14-dev llvm                           # sanitizer builds, libFuzzer, symbolizer

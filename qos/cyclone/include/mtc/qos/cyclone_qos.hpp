@@ -1,0 +1,49 @@
+// The Cyclone DDS side of endpoint_qos.hpp: the project's QoS presets as
+// Cyclone DDS 0.10 (C API) dds_qos_t, policy for policy what writer_qos(),
+// reader_qos() and topic_qos() give Fast DDS, so that one preset means the
+// same contract whichever middleware an equipment runs on. The interop tests
+// (tests/interop) read the effective policies back from both and compare.
+//
+// What has no per-endpoint counterpart in Cyclone:
+// - reliable_heartbeat: Cyclone's writer HEARTBEAT period is a domain setting
+//   (Internal/HeartbeatInterval, 100 ms by default and adaptive), not a QoS;
+//   cyclone_domain_config() sets it from the Timing instead.
+// - Fast DDS's liveliness announcement_period and data-sharing: Fast DDS
+//   only, never on the wire.
+#pragma once
+
+#include <dds/dds.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mtc/qos/endpoint_qos.hpp"
+#include "mtc/qos/timing.hpp"
+
+namespace mtc::qos {
+
+struct CycloneQosDeleter {
+  void operator()(dds_qos_t* qos) const noexcept { dds_delete_qos(qos); }
+};
+// An owned dds_qos_t (dds_create_qos / dds_delete_qos).
+using CycloneQos = std::unique_ptr<dds_qos_t, CycloneQosDeleter>;
+
+// The policies of `endpoint` for a Cyclone topic, writer or reader. Writers
+// are pinned to XCDR1 (PLAIN_CDR): Fast DDS 2.9 with Fast CDR 1.0 reads no
+// other encoding. Throws std::bad_alloc when Cyclone cannot allocate.
+CycloneQos cyclone_topic_qos(const EndpointQos& endpoint);
+CycloneQos cyclone_writer_qos(const EndpointQos& endpoint);
+CycloneQos cyclone_reader_qos(const EndpointQos& endpoint);
+
+// A publisher's or subscriber's PARTITION ("mtc/dev/<uuid>", "mtc/dev/*").
+CycloneQos cyclone_partition_qos(const std::vector<std::string>& partitions);
+
+// A Cyclone domain configuration (the XML that CYCLONEDDS_URI or
+// dds_create_domain() take) confined to the loopback interface: unicast
+// discovery to 127.0.0.1 (Peers, participant index auto) as Fast DDS's
+// loopback transports do, no multicast, the writer HEARTBEAT period and the
+// participant lease from `timing`.
+std::string cyclone_loopback_config(const Timing& timing = {});
+
+}  // namespace mtc::qos

@@ -1,0 +1,120 @@
+#include "mtc/qos/cyclone_qos.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <iterator>
+#include <new>
+
+namespace mtc::qos {
+
+namespace {
+
+CycloneQos make_qos() {
+  CycloneQos qos(dds_create_qos());
+  if (!qos) throw std::bad_alloc();
+  return qos;
+}
+
+dds_duration_t to_cyclone(std::chrono::nanoseconds d) noexcept {
+  return static_cast<dds_duration_t>(d.count());
+}
+
+// The policies writer_qos(), reader_qos() and topic_qos() share, the same
+// values as apply_common() in endpoint_qos.cpp gives Fast DDS.
+void apply_common(const EndpointQos& e, dds_qos_t* q) {
+  // 100 ms: Fast DDS's default max_blocking_time, set so both block alike.
+  dds_qset_reliability(q,
+                       e.reliability() == Reliability::Reliable ? DDS_RELIABILITY_RELIABLE
+                                                                : DDS_RELIABILITY_BEST_EFFORT,
+                       DDS_MSECS(100));
+  dds_qset_durability(q, e.durability() == Durability::TransientLocal
+                             ? DDS_DURABILITY_TRANSIENT_LOCAL
+                             : DDS_DURABILITY_VOLATILE);
+  if (e.is_keep_all()) {
+    dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 1);
+  } else {
+    dds_qset_history(q, DDS_HISTORY_KEEP_LAST, e.depth());
+  }
+  const std::int32_t per_instance = e.is_keep_all() ? 64 : e.depth();
+  dds_qset_resource_limits(q, e.max_instances() * per_instance, e.max_instances(), per_instance);
+  if (e.deadline()) dds_qset_deadline(q, to_cyclone(*e.deadline()));
+  dds_liveliness_kind_t kind = DDS_LIVELINESS_AUTOMATIC;
+  switch (e.liveliness_kind()) {
+    case Liveliness::Automatic:
+      break;
+    case Liveliness::ManualByParticipant:
+      kind = DDS_LIVELINESS_MANUAL_BY_PARTICIPANT;
+      break;
+    case Liveliness::ManualByTopic:
+      kind = DDS_LIVELINESS_MANUAL_BY_TOPIC;
+      break;
+  }
+  dds_qset_liveliness(q, kind,
+                      e.liveliness_lease() ? to_cyclone(*e.liveliness_lease()) : DDS_INFINITY);
+  dds_qset_ownership(
+      q, e.ownership() == Ownership::Exclusive ? DDS_OWNERSHIP_EXCLUSIVE : DDS_OWNERSHIP_SHARED);
+}
+
+}  // namespace
+
+CycloneQos cyclone_topic_qos(const EndpointQos& endpoint) {
+  auto qos = make_qos();
+  apply_common(endpoint, qos.get());
+  return qos;
+}
+
+CycloneQos cyclone_writer_qos(const EndpointQos& endpoint) {
+  auto qos = make_qos();
+  apply_common(endpoint, qos.get());
+  dds_qset_ownership_strength(qos.get(), endpoint.ownership_strength());
+  // Cyclone would pick XCDR2 for some types; Fast DDS 2.9 reads XCDR1 only.
+  const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
+  dds_qset_data_representation(qos.get(), 1, &xcdr1);
+  return qos;
+}
+
+CycloneQos cyclone_reader_qos(const EndpointQos& endpoint) {
+  // Readers keep reader_depth() per instance and room for every device's
+  // items, as EndpointQos::reader_qos() does for Fast DDS.
+  auto reader = endpoint;
+  if (!reader.is_keep_all()) reader.keep_last(reader.reader_depth());
+  reader.max_instances(reader.reader_max_instances());
+  auto qos = make_qos();
+  apply_common(reader, qos.get());
+  return qos;
+}
+
+CycloneQos cyclone_partition_qos(const std::vector<std::string>& partitions) {
+  auto qos = make_qos();
+  std::vector<const char*> names;
+  names.reserve(partitions.size());
+  std::transform(partitions.begin(), partitions.end(), std::back_inserter(names),
+                 [](const std::string& p) { return p.c_str(); });
+  dds_qset_partition(qos.get(), static_cast<uint32_t>(names.size()), names.data());
+  return qos;
+}
+
+std::string cyclone_loopback_config(const Timing& timing) {
+  validate(timing);
+  const auto ms = [](std::chrono::milliseconds d) { return std::to_string(d.count()) + "ms"; };
+  // Peers 127.0.0.1 with participant index auto: Cyclone announces itself to
+  // the well-known unicast discovery ports of the first 32 participant
+  // indices on 127.0.0.1 and listens on one of them, which is what Fast DDS's
+  // loopback transports do too, so the two find each other without multicast.
+  return "<CycloneDDS><Domain Id=\"any\">"
+         "<General><Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
+         "<AllowMulticast>false</AllowMulticast></General>"
+         "<Discovery><Peers><Peer address=\"127.0.0.1\"/></Peers>"
+         "<ParticipantIndex>auto</ParticipantIndex>"
+         "<MaxAutoParticipantIndex>31</MaxAutoParticipantIndex>"
+         "<LeaseDuration>" +
+         ms(timing.participant_lease) + "</LeaseDuration><SPDPInterval>" +
+         ms(timing.participant_announcement) +
+         "</SPDPInterval></Discovery>"
+         "<Internal><HeartbeatInterval>" +
+         ms(timing.reliable_heartbeat) +
+         "</HeartbeatInterval></Internal>"
+         "</Domain></CycloneDDS>";
+}
+
+}  // namespace mtc::qos
