@@ -79,8 +79,7 @@ struct Handover {
 // counted, and times the arrival of each change at `client` from the
 // device's state-machine step (`step_ns`) and from the command.
 Latencies measure(StreamClient& client, dds::Responder& load,
-                  const std::atomic<std::int64_t>& step_ns, const Handover& handover,
-                  int samples) {
+                  const std::atomic<std::int64_t>& step_ns, const Handover& handover, int samples) {
   std::mt19937 random(11);
   std::uniform_int_distribution<int> gap_us(500, 1500);
   Latencies m;

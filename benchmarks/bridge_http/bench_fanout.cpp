@@ -292,8 +292,7 @@ int main(int argc, char** argv) try {
   std::cout << ",\"rss_kb\":{\"before_clients\":" << rss_before
             << ",\"streaming_start\":" << run.rss_start << ",\"streaming_end\":" << run.rss_end
             << ",\"after_clients_left\":" << rss_after
-            << "},\"rss_growth_while_streaming_kb\":" << growth
-            << ",\"cpu_us_per_part\":"
+            << "},\"rss_growth_while_streaming_kb\":" << growth << ",\"cpu_us_per_part\":"
             << (run.all_clients.empty()
                     ? 0.0
                     : run.cpu_seconds * 1e6 / static_cast<double>(run.all_clients.size()))
