@@ -37,6 +37,7 @@ TEST(AgentSharedParts, StreamsAtOnePositionShareOneRendering) {
   std::vector<StreamPlan> plans(5, plan_for(*agent, target));
   const AgentStats before = agent->stats();
   std::vector<Response> parts;
+  parts.reserve(plans.size());
   for (StreamPlan& plan : plans) parts.push_back(agent->next_part(plan));
   const AgentStats after = agent->stats();
   EXPECT_EQ(after.stream_parts_rendered - before.stream_parts_rendered, 1u);
