@@ -136,6 +136,24 @@ void BM_IngestRedelivered(benchmark::State& state) {
 }
 BENCHMARK(BM_IngestRedelivered);
 
+// A change reaching 1,000 streams of the same /sample?interval=0: the
+// agent's side of the HTTP fan-out (mtc-bench-bridge-fanout), per part.
+void BM_StreamPartsAfterChange(benchmark::State& state) {
+  auto agent = make_cell();
+  const mtc::bridge::Routed routed = agent->route("GET", "/sample?interval=0");
+  std::vector<mtc::bridge::StreamPlan> plans(1000, *routed.stream);
+  for (auto& plan : plans) benchmark::DoNotOptimize(agent->next_part(plan));
+  int i = 0;
+  for ([[maybe_unused]] auto _ : state) {
+    state.PauseTiming();
+    agent->add_value(value(i++));
+    state.ResumeTiming();
+    for (auto& plan : plans) benchmark::DoNotOptimize(agent->next_part(plan));
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(plans.size()));
+}
+BENCHMARK(BM_StreamPartsAfterChange);
+
 class SummaryReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
@@ -164,7 +182,8 @@ constexpr const char* kAbout =
     "a cell of 3 devices with one MaterialHandler interface each (1.6 documents):\n"
     "/current cached and after a change, /current?path=, /sample?count=100,\n"
     "/current?at= in a full buffer, /probe, ingest of a change and of an unchanged\n"
-    "value handed over again after a loss.\n"
+    "value handed over again after a loss, the next part of 1,000 streams of one\n"
+    "/sample?interval=0 after a change (per 1,000 parts).\n"
     "Output on stdout: Google Benchmark's table, then one JSON summary line\n"
     "  {\"benchmark\":\"bridge_agent\",...,\n"
     "   \"results\":[{\"name\",\"ns_per_op\",\"ops_per_s\"},...]}\n"

@@ -51,21 +51,35 @@ constexpr const char* kAbout =
     "(scripts/netns-run.sh). One JSON line on stdout:\n"
     "  {\"benchmark\":\"bridge_http_dds_stream_latency\",\"lost\",\n"
     "   \"from_transition_us\":{p50,p90,p99,max,mean},\n"
-    "   \"from_command_us\":{...},\"meets_bar\",...}\n"
+    "   \"from_command_us\":{...},\"legs_us\":{dds,observer_handoff,agent_to_client},\n"
+    "   \"meets_bar\",...}\n"
+    "(legs: the transition to the observer's listener, the listener to its dispatch\n"
+    "thread calling the agent, that call to the client's arrival).\n"
     "(bar, from the transition: p50 < 200 us, p99 < 2 ms, none lost).\n"
     "benchmarks/bridge_http/run.sh collects it in <build>/benchmarks/bridge_http.json.";
 
 struct Latencies {
   std::vector<std::chrono::nanoseconds> from_step;
   std::vector<std::chrono::nanoseconds> from_command;
+  // The same path in three legs, to tell where the time goes: the step to
+  // the observer's DDS listener (reception time), the listener to the
+  // observer's dispatch thread calling the agent, that call to the client.
+  std::vector<std::chrono::nanoseconds> dds, handoff, bridge;
   int lost = 0;
+};
+
+// Wall-clock times (ns) of the latest value the observer handed over:
+// taken by its listener, and handed to the agent.
+struct Handover {
+  std::atomic<std::int64_t> received{0};
+  std::atomic<std::int64_t> dispatched{0};
 };
 
 // Toggles `load` `samples` times, after 20 warm-up toggles that are not
 // counted, and times the arrival of each change at `client` from the
 // device's state-machine step (`step_ns`) and from the command.
 Latencies measure(StreamClient& client, dds::Responder& load,
-                  const std::atomic<std::int64_t>& step_ns, int samples) {
+                  const std::atomic<std::int64_t>& step_ns, const Handover& handover, int samples) {
   std::mt19937 random(11);
   std::uniform_int_distribution<int> gap_us(500, 1500);
   Latencies m;
@@ -81,8 +95,13 @@ Latencies measure(StreamClient& client, dds::Responder& load,
       continue;
     }
     if (k >= warmup) {
-      m.from_step.emplace_back(wall_ns(arrival->wall) - step_ns.load());
-      m.from_command.emplace_back(wall_ns(arrival->wall) - wall_ns(command));
+      const std::int64_t step = step_ns.load();
+      const std::int64_t arrived = wall_ns(arrival->wall);
+      m.from_step.emplace_back(arrived - step);
+      m.from_command.emplace_back(arrived - wall_ns(command));
+      m.dds.emplace_back(handover.received.load() - step);
+      m.handoff.emplace_back(handover.dispatched.load() - handover.received.load());
+      m.bridge.emplace_back(arrived - handover.dispatched.load());
     }
     std::this_thread::sleep_for(std::chrono::microseconds(gap_us(random)));  // pacing
   }
@@ -98,6 +117,13 @@ void print_result(const Latencies& m) {
   print_summary(std::cout, step);
   std::cout << ",\"from_command_us\":";
   print_summary(std::cout, summarize(m.from_command));
+  std::cout << ",\"legs_us\":{\"dds\":";
+  print_summary(std::cout, summarize(m.dds));
+  std::cout << ",\"observer_handoff\":";
+  print_summary(std::cout, summarize(m.handoff));
+  std::cout << ",\"agent_to_client\":";
+  print_summary(std::cout, summarize(m.bridge));
+  std::cout << "}";
   std::cout << ",\"bar\":{\"max_p50_us\":200,\"max_p99_us\":2000},\"meets_bar\":"
             << ((lost == 0 && step.p50_us < 200 && step.p99_us < 2000) ? "true" : "false") << "}"
             << std::endl;
@@ -124,7 +150,12 @@ int main(int argc, char** argv) try {
   observer_options.domain_id = kDomain;
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_device = [&](const dds::ObservedDevice& d) { agent->add_device(d); };
-  callbacks.on_value = [&](const dds::ObservedValue& v) { agent->add_value(v); };
+  Handover handover;
+  callbacks.on_value = [&](const dds::ObservedValue& v) {
+    handover.received = v.reception_time_ns;
+    handover.dispatched = wall_ns(std::chrono::system_clock::now());
+    agent->add_value(v);
+  };
   callbacks.on_items_lost = [&](const std::string& uuid, const std::vector<std::string>& ids) {
     agent->items_lost(uuid, ids);
   };
@@ -152,7 +183,7 @@ int main(int argc, char** argv) try {
     throw std::runtime_error("device never reached the bridge");
   }
 
-  print_result(measure(client, load, step_ns, samples));
+  print_result(measure(client, load, step_ns, handover, samples));
   return 0;
 } catch (const std::exception& error) {
   std::cerr << "mtc-bench-bridge-dds-stream: " << error.what() << "\n";

@@ -48,7 +48,9 @@ constexpr const char* kAbout =
     "starts, after the last value and after the clients left. Runs inside the\n"
     "loopback-only namespace (scripts/netns-run.sh). One JSON line on stdout:\n"
     "  {\"benchmark\":\"bridge_http_fanout\",\"clients\",\"lost\",\"all_clients_us\":{p50,...},\n"
-    "   \"last_client_us\":{...},\"rss_kb\":{...},\"meets_bar\",...}\n"
+    "   \"last_client_us\":{...},\"rss_kb\":{...},\"cpu_us_per_part\",\"meets_bar\",...}\n"
+    "(cpu_us_per_part: CPU time of the whole process, server and clients, per part\n"
+    "delivered while timed: what the machine's other load does not inflate).\n"
     "(bar: p99 over all clients < 10 ms, none lost, no RSS growth while streaming).";
 
 long rss_kb() {
@@ -201,10 +203,22 @@ void raise_fd_limit() {
   }
 }
 
+// CPU time (user + system) of this process: a cost the machine's other
+// load does not inflate, unlike the latencies.
+double cpu_seconds() {
+  rusage usage{};
+  if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) / 1e6;
+  };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
 // What one run measured: per fed value, each client's latency and the
 // slowest client's; the clients that never got it; RSS around streaming.
 struct FanoutRun {
   std::vector<std::chrono::nanoseconds> all_clients;
+  double cpu_seconds = 0;  // the process (server and clients) over the timed values
   std::vector<std::chrono::nanoseconds> last_client;
   long rss_start = 0;
   long rss_end = 0;
@@ -218,6 +232,7 @@ FanoutRun measure(DemoCell& cell, int client_count, int feeds) {
   for (int k = 0; k < warmup + feeds; ++k) {
     if (k == warmup) {
       run.rss_start = rss_kb();
+      run.cpu_seconds = -cpu_seconds();
     }
     fanout.expect("sequence=\"" + std::to_string(cell.agent().next_sequence()) + "\"");
     const auto t0 = Clock::now();
@@ -239,6 +254,7 @@ FanoutRun measure(DemoCell& cell, int client_count, int feeds) {
     run.last_client.push_back(latest);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  run.cpu_seconds += cpu_seconds();
   run.rss_end = rss_kb();
   return run;
 }
@@ -276,7 +292,10 @@ int main(int argc, char** argv) try {
   std::cout << ",\"rss_kb\":{\"before_clients\":" << rss_before
             << ",\"streaming_start\":" << run.rss_start << ",\"streaming_end\":" << run.rss_end
             << ",\"after_clients_left\":" << rss_after
-            << "},\"rss_growth_while_streaming_kb\":" << growth
+            << "},\"rss_growth_while_streaming_kb\":" << growth << ",\"cpu_us_per_part\":"
+            << (run.all_clients.empty()
+                    ? 0.0
+                    : run.cpu_seconds * 1e6 / static_cast<double>(run.all_clients.size()))
             << ",\"bar\":{\"max_p99_us\":10000,\"rss_growth\":\"<= max(2 MiB, 5 %)\"}"
             << ",\"meets_bar\":"
             << ((run.lost == 0 && all.p99_us < 10000 && flat) ? "true" : "false") << "}"

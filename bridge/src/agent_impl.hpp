@@ -27,6 +27,11 @@
 
 namespace mtc::bridge::detail {
 
+// A rendered document (XML or JSON) with its header's creationTime set to
+// now: a document served again is created at the time of the response, as
+// from the reference agent.
+std::string with_fresh_creation_time(std::string body);
+
 class AgentImpl final : public MtconnectAgent {
  public:
   explicit AgentImpl(const AgentOptions& options);
@@ -99,6 +104,9 @@ class AgentImpl final : public MtconnectAgent {
   Response streams(const Query& q, const HeaderInfo& h,
                    const std::vector<StreamEntry>& entries) const;
   Routed stream(const Query& q, bool is_sample) const;
+  // One part of a /sample stream at q.from, rendered once and shared by
+  // every stream at the same position with the same query (part_cache_).
+  Response shared_part(const Query& q, std::uint64_t& next_out) const;
 
   AgentOptions options_;
   Printer printer_;
@@ -130,6 +138,24 @@ class AgentImpl final : public MtconnectAgent {
   };
   mutable std::mutex cache_mutex_;
   std::unordered_map<std::string, CachedDoc> cache_;
+  // Stream parts of the buffer's present state: every entry was rendered
+  // at (generation, next_sequence); the first part asked for after either
+  // moves empties it, so a part is never served once something new could
+  // be in it. Bounded in entries and bytes (kMaxSharedParts and
+  // kMaxSharedPartBytes, agent_sample.cpp).
+  struct SharedPart {
+    std::uint64_t next_sequence = 0;  // the plan's position after the part
+    std::string body;
+  };
+  struct PartCache {
+    std::uint64_t generation = 0;
+    std::uint64_t next_sequence = 0;
+    std::size_t bytes = 0;
+    std::unordered_map<std::string, SharedPart> parts;
+  };
+  mutable PartCache part_cache_;
+  mutable std::uint64_t parts_rendered_ = 0;  // guarded by cache_mutex_
+  mutable std::uint64_t parts_shared_ = 0;    // guarded by cache_mutex_
   // "<device>|<path>" -> (generation, selected items).
   mutable std::unordered_map<std::string, std::pair<std::uint64_t, std::vector<std::size_t>>>
       selections_;

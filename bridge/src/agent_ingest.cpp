@@ -405,8 +405,16 @@ void AgentImpl::notify(std::size_t appended) {
 }
 
 AgentStats AgentImpl::stats() const {
-  std::shared_lock lock(data_);
-  return stats_;
+  AgentStats s;
+  {
+    std::shared_lock lock(data_);
+    s = stats_;
+  }
+  std::lock_guard lock(cache_mutex_);
+  s.stream_parts_rendered = parts_rendered_;
+  s.stream_parts_shared = parts_shared_;
+  s.shared_part_bytes = part_cache_.bytes;
+  return s;
 }
 
 std::uint64_t AgentImpl::next_sequence() const noexcept {

@@ -49,22 +49,6 @@ RequestError out_of_range(std::string text) {
   return {"OUT_OF_RANGE", 400, std::move(text)};
 }
 
-// A cached document's header creationTime set to now: it is the time of
-// the response (as from the reference agent), not of the render. Both the
-// XML (creationTime="...") and the JSON ("creationTime":"...") forms.
-std::string with_fresh_creation_time(std::string body) {
-  constexpr std::string_view kName = "creationTime";
-  const std::size_t name = body.find(kName);
-  if (name == std::string::npos) return body;
-  std::size_t i = name + kName.size();
-  if (i < body.size() && body[i] == '"') ++i;  // JSON: the key's closing quote
-  const std::size_t open = body.find('"', i);
-  const std::size_t close = open == std::string::npos ? open : body.find('"', open + 1);
-  if (close == std::string::npos) return body;
-  body.replace(open + 1, close - open - 1, format_creation_time(now_ns()));
-  return body;
-}
-
 constexpr std::string_view kJsonType = "application/json";
 constexpr std::string_view kXmlType = "text/xml";
 
@@ -100,6 +84,22 @@ void negotiate(const Request& request, RequestParameters& out) {
 }
 
 }  // namespace
+
+// A cached document's header creationTime set to now: it is the time of
+// the response (as from the reference agent), not of the render. Both the
+// XML (creationTime="...") and the JSON ("creationTime":"...") forms.
+std::string with_fresh_creation_time(std::string body) {
+  constexpr std::string_view kName = "creationTime";
+  const std::size_t name = body.find(kName);
+  if (name == std::string::npos) return body;
+  std::size_t i = name + kName.size();
+  if (i < body.size() && body[i] == '"') ++i;  // JSON: the key's closing quote
+  const std::size_t open = body.find('"', i);
+  const std::size_t close = open == std::string::npos ? open : body.find('"', open + 1);
+  if (close == std::string::npos) return body;
+  body.replace(open + 1, close - open - 1, format_creation_time(now_ns()));
+  return body;
+}
 
 RouteTable AgentImpl::make_routes() const {
   const auto heartbeat = static_cast<std::int64_t>(options_.stream_heartbeat.count());

@@ -53,7 +53,62 @@ void check_sample_range(const Query& q, std::int64_t first, std::int64_t next,
   if (q.to && count < 0) throw out_of_range("'count' must be positive when 'to' is given");
 }
 
+// Shared stream parts (AgentImpl::part_cache_): at most this many queries
+// at one position, and parts this large or larger are rendered per stream
+// (a backlog's large part is rarely shared), so the cache holds at most
+// kMaxSharedParts * kMaxSharedPartBytes, 4 MiB, whatever the clients ask.
+constexpr std::size_t kMaxSharedParts = 64;
+constexpr std::size_t kMaxSharedPartBytes = std::size_t{64} << 10;
+
+// Everything a /sample part depends on besides the buffer and the model:
+// the position, the device, the filter, the window and the format.
+std::string part_key(const Query& q) {
+  std::string key;
+  key.reserve(64 + q.path.value_or("").size());
+  for (const std::optional<std::int64_t>& n : {q.from, q.to, q.count}) {
+    key += n ? std::to_string(*n) : "-";
+    key += '|';
+  }
+  key += q.device_index ? std::to_string(*q.device_index) : "-";
+  key += q.json ? "|j" : "|x";
+  key += q.pretty ? "p|" : "|";
+  key += q.path.value_or("");  // last: it may hold any byte
+  return key;
+}
+
 }  // namespace
+
+Response AgentImpl::shared_part(const Query& q, std::uint64_t& next_out) const {
+  const std::string key = part_key(q);
+  const std::uint64_t position = buffer_.next_sequence();  // data_ held: fixed until we return
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (part_cache_.generation != generation_ || part_cache_.next_sequence != position) {
+      part_cache_.parts.clear();  // something new: no part rendered before may be served
+      part_cache_.bytes = 0;
+      part_cache_.generation = generation_;
+      part_cache_.next_sequence = position;
+    }
+    const auto it = part_cache_.parts.find(key);
+    if (it != part_cache_.parts.end()) {
+      ++parts_shared_;
+      next_out = it->second.next_sequence;
+      return {200, std::string(q.json ? "application/json" : "text/xml"),
+              with_fresh_creation_time(it->second.body)};
+    }
+  }
+  Response part = sample(q, next_out);
+  std::lock_guard lock(cache_mutex_);
+  ++parts_rendered_;
+  // The state cannot have moved (data_ is held), but the cache is only
+  // ever filled for the state it was emptied for.
+  if (part_cache_.generation == generation_ && part_cache_.next_sequence == position &&
+      part_cache_.parts.size() < kMaxSharedParts && part.body.size() < kMaxSharedPartBytes) {
+    const auto [it, added] = part_cache_.parts.try_emplace(key, SharedPart{next_out, part.body});
+    if (added) part_cache_.bytes += it->second.body.size();
+  }
+  return part;
+}
 
 Response AgentImpl::sample(const Query& q, std::uint64_t& next_out) const {
   const auto first = static_cast<std::int64_t>(buffer_.first_sequence());
@@ -147,7 +202,7 @@ Response AgentImpl::next_part(StreamPlan& plan) noexcept {
     q.from = static_cast<std::int64_t>(std::min(plan.next_sequence, buffer_.next_sequence()));
     if (q.count && *q.count < 0) q.count = -*q.count;
     std::uint64_t next = 0;
-    Response part = sample(q, next);
+    Response part = shared_part(q, next);
     plan.next_sequence = next;
     return part;
   } catch (const RequestError& e) {

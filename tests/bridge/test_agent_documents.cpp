@@ -328,5 +328,28 @@ TEST(Agent, RepeatedCurrentIsServedFromCacheUntilDataChanges) {
   EXPECT_NE(Doc(c).text("//MaterialLoad[@dataItemId='mill.material_load.req']"), "UNAVAILABLE");
 }
 
+// The cache keeps one document per device, path and format: a cached
+// document of one filter is never served for another, and a change reaches
+// every one of them on its next request.
+TEST(Agent, CachedCurrentDocumentsKeepTheirFilters) {
+  auto agent = test::announced_cell();
+  const std::vector<std::string> targets{"/current", "/current?path=//DoorInterface",
+                                         "/robot/current", "/current?format=json"};
+  for (int pass = 0; pass < 2; ++pass) {  // the second pass is served from the cache
+    EXPECT_EQ(Doc(get(*agent, targets[1]).body).count("//MaterialLoad"), 0u);
+    EXPECT_GT(Doc(get(*agent, targets[1]).body).count("//DoorState"), 0u);
+    EXPECT_EQ(Doc(get(*agent, targets[2]).body).count("//DeviceStream[@name='mill']"), 0u);
+    EXPECT_GT(Doc(get(*agent, targets[0]).body).count("//DeviceStream[@name='mill']"), 0u);
+    EXPECT_GT(Doc(get(*agent, targets[0]).body).count("//MaterialLoad"), 0u);
+    EXPECT_EQ(get(*agent, targets[3]).body.front(), '{');
+    EXPECT_EQ(get(*agent, targets[3]).body.find("\"OPEN\""), std::string::npos);
+  }
+  agent->add_value(value("mill-0001", "mill.door.door_state", core::DoorState::Open, kT0));
+  const char* door = "//DoorState[@dataItemId='mill.door.door_state']";
+  EXPECT_EQ(Doc(get(*agent, targets[0]).body).text(door), "OPEN");
+  EXPECT_EQ(Doc(get(*agent, targets[1]).body).text(door), "OPEN");
+  EXPECT_NE(get(*agent, targets[3]).body.find("\"OPEN\""), std::string::npos);
+}
+
 }  // namespace
 }  // namespace mtc::bridge

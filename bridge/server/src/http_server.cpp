@@ -84,12 +84,18 @@ void HttpServer::Impl::listen() {
 }
 
 void HttpServer::Impl::accept() {
+  auto on_accepted = [this](const boost::system::error_code& ec, tcp::socket socket) {
+    on_accept(ec, std::move(socket));
+  };
   // Each connection gets its own strand: its handlers never run
-  // concurrently, while different connections use every io thread.
-  acceptor.async_accept(asio::make_strand(ioc),
-                        [this](const boost::system::error_code& ec, tcp::socket socket) {
-                          on_accept(ec, std::move(socket));
-                        });
+  // concurrently, while different connections use every io thread. One io
+  // thread runs handlers one at a time anyway; a strand would only add a
+  // lock and a queue to each of them.
+  if (shared->options.io_threads == 1) {
+    acceptor.async_accept(ioc, std::move(on_accepted));
+  } else {
+    acceptor.async_accept(asio::make_strand(ioc), std::move(on_accepted));
+  }
 }
 
 void HttpServer::Impl::on_accept(const boost::system::error_code& ec, tcp::socket socket) {

@@ -452,7 +452,11 @@ void Session::pump() {
 
 void Session::arm_timer(Clock::time_point due) {
   auto& state = *stream_state_;
-  if (state.armed_for == due) {
+  // A timer due no later stays: when it fires, pump() finds whether a part
+  // is due and arms it again. Moving it after every part (the heartbeat's
+  // due moves with each part) cost a cancel, an aborted handler and a new
+  // wait per part, for every client of a busy stream.
+  if (state.armed_for <= due) {
     return;
   }
   state.armed_for = due;

@@ -1,6 +1,7 @@
 // One client connection: reads requests under strict limits, answers them
 // through the Agent, and turns a StreamPlan into a chunked multipart stream.
-// Every handler of a session runs on that session's strand.
+// Every handler of a session runs on that session's strand (or, with one io
+// thread, on that thread: one at a time all the same).
 #pragma once
 
 #include <atomic>
@@ -59,7 +60,7 @@ class Session : public std::enable_shared_from_this<Session> {
   void shutdown();     // server stop: end a stream with its boundary, close
   void evict();        // make room for a new connection: close
 
-  // The connection's strand.
+  // The connection's strand (the io_context's executor with one io thread).
   asio::any_io_executor executor() { return stream_.tcp().get_executor(); }
   const std::string& remote() const noexcept { return remote_; }
   std::uint64_t id() const noexcept { return id_; }

@@ -91,6 +91,12 @@ struct AgentStats {
   std::uint64_t unknown_values = 0;  // values for items not in the model
   std::uint64_t model_changes = 0;   // model rebuilds after announcements
   std::string last_unknown;          // "<device_uuid>/<data_item_id>"
+  // /sample stream parts: rendered, and served to another stream at the
+  // same position from the first one's rendering; the bytes such shared
+  // parts hold now (bounded, whatever the number of streams or queries).
+  std::uint64_t stream_parts_rendered = 0;
+  std::uint64_t stream_parts_shared = 0;
+  std::size_t shared_part_bytes = 0;
 };
 
 // One observation of a data item, as an adapter (SHDR) passes it on.

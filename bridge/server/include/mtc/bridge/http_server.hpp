@@ -6,8 +6,9 @@
 // for the few errors the server finds itself (unparsable request, oversized
 // header, request body, too many connections: Agent::error_document).
 //
-// Threads: `io_threads` threads run one io_context; every connection lives on
-// its own strand, so a slow or hostile client never blocks another one.
+// Threads: `io_threads` threads run one io_context; with more than one, every
+// connection lives on its own strand. A slow or hostile client never blocks
+// another one: no handler waits on a client.
 #pragma once
 
 #include <chrono>
