@@ -16,8 +16,10 @@ namespace mtc::test {
 inline int test_slowdown() {
   const char* text = std::getenv("MTC_TEST_SLOWDOWN");  // NOLINT(concurrency-mt-unsafe)
   if (text == nullptr) return 1;
-  const int factor = std::atoi(text);
-  return factor < 1 ? 1 : (factor > 10 ? 10 : factor);
+  char* end = nullptr;
+  const long factor = std::strtol(text, &end, 10);
+  if (end == text || *end != '\0' || factor < 1) return 1;
+  return factor > 10 ? 10 : static_cast<int>(factor);
 }
 
 inline std::chrono::milliseconds slowed(std::chrono::milliseconds plain) {

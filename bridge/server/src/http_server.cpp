@@ -6,6 +6,7 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
+#include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
@@ -183,7 +184,16 @@ HttpServer::HttpServer(std::shared_ptr<Agent> agent, ServerOptions options)
 }
 
 HttpServer::~HttpServer() {
-  stop();
+  // stop() posts to the acceptor's strand and the sessions' executors,
+  // which allocate; a destructor must not throw, so a failure there is
+  // reported and the rest of the teardown goes on.
+  try {
+    stop();
+  } catch (const std::exception& e) {
+    std::cerr << "mtc::bridge::HttpServer: stop failed: " << e.what() << '\n';
+  } catch (...) {
+    std::cerr << "mtc::bridge::HttpServer: stop failed\n";
+  }
 }
 
 void HttpServer::start() {
