@@ -32,6 +32,11 @@ namespace mtc::bridge::detail {
 // from the reference agent.
 std::string with_fresh_creation_time(std::string body);
 
+// What a rendered document depends on besides the buffer and the model:
+// device, path filter, format and layout (the /current cache's key, and
+// with the window in front, a shared stream part's).
+std::string document_cache_key(const Query& q);
+
 class AgentImpl final : public MtconnectAgent {
  public:
   explicit AgentImpl(const AgentOptions& options);

@@ -52,12 +52,6 @@ RequestError out_of_range(std::string text) {
 constexpr std::string_view kJsonType = "application/json";
 constexpr std::string_view kXmlType = "text/xml";
 
-// /current documents are cached per device, path, format and layout.
-std::string current_cache_key(const Query& q) {
-  return std::to_string(q.device_index ? *q.device_index : SIZE_MAX) + '|' + q.path.value_or("") +
-         '|' + (q.json ? "j" : "x") + (q.pretty ? "p" : "");
-}
-
 bool names_media_type(std::string_view accept, std::string_view type) {
   return accept.find(type) != std::string_view::npos;
 }
@@ -84,6 +78,13 @@ void negotiate(const Request& request, RequestParameters& out) {
 }
 
 }  // namespace
+
+// Unambiguous whatever bytes the path holds: the device index has no '|'
+// and the format and layout come after the path's last '|'.
+std::string document_cache_key(const Query& q) {
+  return std::to_string(q.device_index ? *q.device_index : SIZE_MAX) + '|' + q.path.value_or("") +
+         '|' + (q.json ? "j" : "x") + (q.pretty ? "p" : "");
+}
 
 // A cached document's header creationTime set to now: it is the time of
 // the response (as from the reference agent), not of the render. Both the
@@ -247,7 +248,7 @@ Routed AgentImpl::handle_assets(const Query& q) {
 
 Routed AgentImpl::handle_current(const Query& q) {
   if (q.interval) return stream(q, false);
-  return Routed{current(q, current_cache_key(q)), std::nullopt};
+  return Routed{current(q, document_cache_key(q)), std::nullopt};
 }
 
 Routed AgentImpl::handle_sample(const Query& q) {

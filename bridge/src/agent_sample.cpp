@@ -61,19 +61,14 @@ constexpr std::size_t kMaxSharedParts = 64;
 constexpr std::size_t kMaxSharedPartBytes = std::size_t{64} << 10;
 
 // Everything a /sample part depends on besides the buffer and the model:
-// the position, the device, the filter, the window and the format.
+// the window, then what any cached document depends on.
 std::string part_key(const Query& q) {
   std::string key;
-  key.reserve(64 + q.path.value_or("").size());
   for (const std::optional<std::int64_t>& n : {q.from, q.to, q.count}) {
     key += n ? std::to_string(*n) : "-";
     key += '|';
   }
-  key += q.device_index ? std::to_string(*q.device_index) : "-";
-  key += q.json ? "|j" : "|x";
-  key += q.pretty ? "p|" : "|";
-  key += q.path.value_or("");  // last: it may hold any byte
-  return key;
+  return key + document_cache_key(q);
 }
 
 }  // namespace
