@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <condition_variable>
+#include <cstdlib>
 #include <future>
 #include <iostream>
 #include <mutex>
@@ -58,6 +59,7 @@ dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos
   // Every FAIL (e.g. a false comms-loss alarm on a loaded machine) clears
   // itself, so one bad handshake cannot stall the run; it is counted.
   o.recovery = dds::RecoveryPolicy::Always;
+  o.inline_steps = std::getenv("MTC_BENCH_INLINE_STEPS") != nullptr;  // EXPERIMENT
   return o;
 }
 
