@@ -170,7 +170,7 @@ class DdsRequestPort : public RequestPort {
     return idle ? Outcome::Completed : Outcome::TimedOut;
   }
 
-  void fail() override { r_.fail().get(); }
+  bool fail() override { return !r_.fail().get().rejected(); }
 
   bool recover(Millis timeout) override { return recover_handle(r_, shared_, timeout); }
 

@@ -180,8 +180,8 @@ class LocalRequestPort : public RequestPort {
     return out;
   }
 
-  void fail() override {
-    bus_.command(w_, [&](core::TimePoint now) { return w_.req.fail(now); });
+  bool fail() override {
+    return !bus_.command(w_, [&](core::TimePoint now) { return w_.req.fail(now); }).rejected();
   }
 
   std::string states() override {

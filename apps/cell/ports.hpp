@@ -39,8 +39,9 @@ class RequestPort {
   virtual bool wait_engaged(Millis timeout) = 0;
   // Blocks until the handshake ended (steps 5-8, or both FAIL).
   virtual Outcome wait_outcome(Millis timeout) = 0;
-  // Fault injection, scenario 3: the requester detected a failure.
-  virtual void fail() = 0;
+  // Fault injection, scenario 3: the requester detected a failure. False
+  // when it came too late: the handshake had already ended, nothing changed.
+  virtual bool fail() = 0;
   // FAIL -> READY once the responder acknowledged with FAIL; true on READY.
   virtual bool recover(Millis timeout) = 0;
   // "request READY, response FAIL": for the log when something is stuck.

@@ -45,7 +45,12 @@ Outcome request_service(Station& c, Service s, const char* responder, const std:
       in_slices(c, c.options.handshake_timeout, [&](Millis m) { return port.wait_engaged(m); })) {
     c.stop.sleep_for(c.options.pace / 2);
     announce_fault(c, indent, *fault);
-    port.fail();
+    // The responder's motion may have ended first (a slow wake-up on a
+    // loaded machine): then nothing failed, and the log must say so.
+    if (!port.fail()) {
+      c.say(format("%s%-15s injected failure too late: the handshake had already ended",
+                   indent.c_str(), service_name(s).c_str()));
+    }
   }
   Outcome out = Outcome::TimedOut;
   in_slices(c, c.options.handshake_timeout, [&](Millis m) {

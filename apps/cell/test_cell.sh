@@ -50,9 +50,13 @@ check_bounded_run() {
   for s in MATERIAL_FEED MATERIAL_LOAD MATERIAL_UNLOAD OPEN_DOOR CLOSE_DOOR OPEN_CHUCK CLOSE_CHUCK; do
     expect "$s +done in .* both READY" "a completed $s handshake"
   done
-  local injected
+  local injected late
   injected="$(count '!! .*injected failure')"
   [ "$injected" -ge $((cycles / 2)) ] || fail "expected >= $((cycles / 2)) injected failures, saw $injected"
+  # A requester's fault (scenario 3) that a slow wake-up delivered after the
+  # responder had finished changes nothing, and the station says so.
+  late="$(count 'injected failure too late')"
+  injected=$((injected - late))
   # The machine saw each one fail its step and recovered from every failure.
   local summary failures recovered
   summary="$(grep -E 'cell summary' "$log")"

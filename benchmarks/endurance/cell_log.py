@@ -19,6 +19,8 @@ import threading
 LINE = re.compile(r"^\S+\s+(\w+)\s*\| (.*)$")
 STARTED = re.compile(r"stations started: machine pid (\d+), robot pid (\d+), feeder pid (\d+)")
 INJECTED = re.compile(r"!! .*: injected failure, scenario (\d+)")
+# A requester's fault that arrived after the responder had finished: no effect.
+INJECTED_LATE = re.compile(r"injected failure too late")
 DONE = re.compile(r"^\s*(\w+)\s+done in ([0-9.]+) ms, both READY")
 FAILED = re.compile(r"FAILED \(both sides FAIL\)|TIMED OUT after|could not raise the request")
 LINK = re.compile(r"link (\S+) -> (\S+): (LOST|UP) \((.*)\)$")
@@ -46,6 +48,7 @@ class CellLog:
         self.handshakes_per_minute = {}
         self.slowest_handshake_ms = 0.0
         self.injected = 0
+        self.injected_late = 0
         self.injected_by_scenario = {}
         self.requester_failures = 0
         self.false_alarms = []
@@ -92,6 +95,8 @@ class CellLog:
             self.injected += 1
             key = m2.group(1)
             self.injected_by_scenario[key] = self.injected_by_scenario.get(key, 0) + 1
+        elif INJECTED_LATE.search(text):
+            self.injected_late += 1
         elif (m2 := DONE.match(text)):
             self.count_handshake(m2.group(1), float(m2.group(2)), t_s)
         elif FAILED.search(text):
@@ -134,6 +139,7 @@ class CellLog:
                                           for m in range(minutes)],
                 "slowest_handshake_ms": self.slowest_handshake_ms,
                 "injected_failures": self.injected,
+                "injected_too_late": self.injected_late,
                 "injected_by_scenario": dict(sorted(self.injected_by_scenario.items())),
                 "requester_failures_logged": self.requester_failures,
                 "machine_summary": self.summary,

@@ -6,8 +6,11 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <chrono>
 #include <mutex>
 #include <string_view>
+#include <thread>
+#include <utility>
 #include <vector>
 
 namespace mtc::qos {
@@ -75,28 +78,47 @@ bool owner_dead(const std::string& lock_path, int& fd) {
   return false;
 }
 
+// Removes one lock's files when their owner is dead; false when it is held.
+bool remove_if_dead(const std::string& dir, const std::string& name, Kind kind,
+                    StaleSharedMemory& out) {
+  const std::string lock_path = path_in(dir, name);
+  const std::string object = name.substr(0, name.size() - kLockSuffix.size());
+  int fd = -1;
+  if (!owner_dead(lock_path, fd)) return false;
+  // The object first, its lock last (held until then): nobody can take
+  // the name over in between.
+  ::unlink(path_in(dir, object).c_str());
+  if (kind == Kind::Port) ::unlink(path_in(dir, "sem." + object + "_mutex").c_str());
+  ::unlink(lock_path.c_str());
+  ::close(fd);
+  ++(kind == Kind::Segment ? out.segments : out.ports);
+  return true;
+}
+
 }  // namespace
 
-StaleSharedMemory remove_stale_shared_memory(const std::string& dir) {
+StaleSharedMemory remove_stale_shared_memory(const std::string& dir,
+                                             const std::function<void(int attempt)>& pause) {
   StaleSharedMemory out;
+  std::vector<std::pair<std::string, Kind>> held;
   for (const auto& name : list(dir)) {
     const Kind kind = classify(name);
-    if (kind == Kind::None) continue;
-    const std::string lock_path = path_in(dir, name);
-    const std::string object = name.substr(0, name.size() - kLockSuffix.size());
-    int fd = -1;
-    if (!owner_dead(lock_path, fd)) {
-      ++out.in_use;
-      continue;
-    }
-    // The object first, its lock last (held until then): nobody can take
-    // the name over in between.
-    ::unlink(path_in(dir, object).c_str());
-    if (kind == Kind::Port) ::unlink(path_in(dir, "sem." + object + "_mutex").c_str());
-    ::unlink(lock_path.c_str());
-    ::close(fd);
-    ++(kind == Kind::Segment ? out.segments : out.ports);
+    if (kind != Kind::None && !remove_if_dead(dir, name, kind, out)) held.emplace_back(name, kind);
   }
+  for (int attempt = 1; attempt <= kStaleProbeRetries && !held.empty(); ++attempt) {
+    if (pause) {
+      pause(attempt);
+    } else {
+      // No event says that another process let go of a lock: a short wait.
+      std::this_thread::sleep_for(std::chrono::milliseconds(1 << (attempt - 1)));
+    }
+    std::vector<std::pair<std::string, Kind>> still;
+    for (const auto& [name, kind] : held) {
+      if (!remove_if_dead(dir, name, kind, out)) still.emplace_back(name, kind);
+    }
+    held.swap(still);
+  }
+  out.in_use = static_cast<int>(held.size());
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "mtc/qos/shared_memory.hpp"
 
@@ -72,6 +73,39 @@ TEST_F(StaleSharedMemory, RemovesTheDeadAndLeavesTheLiveAndTheRest) {
         "fast_datasharing_0123456789abcdef_el", "fastrtps_short_el", "other_el"}) {
     EXPECT_TRUE(exists(kept)) << kept;
   }
+}
+
+// A live process probing a dead peer's port (Fast DDS's zombie check) holds
+// its lock for a moment: a lock held at the first probe and let go before
+// the next one is a dead owner's after all, and its files go.
+TEST_F(StaleSharedMemory, ALockHeldForAMomentIsProbedAgain) {
+  touch("fastrtps_port7415");
+  hold("fastrtps_port7415_el");
+  std::vector<int> pauses;
+  const auto removed = mtc::qos::remove_stale_shared_memory(dir_.string(), [&](int attempt) {
+    pauses.push_back(attempt);
+    if (attempt == 1) {
+      ::close(held_);  // the prober lets go
+      held_ = -1;
+    }
+  });
+  EXPECT_EQ(removed.ports, 1);
+  EXPECT_EQ(removed.in_use, 0);
+  EXPECT_EQ(pauses, std::vector<int>{1});
+  EXPECT_FALSE(exists("fastrtps_port7415_el"));
+  EXPECT_FALSE(exists("fastrtps_port7415"));
+}
+
+// A lock held throughout is a live owner's: probed again a bounded number
+// of times, then left alone.
+TEST_F(StaleSharedMemory, ALockHeldThroughoutIsLeftAfterBoundedRetries) {
+  touch("fastrtps_fedcba9876543210");
+  hold("fastrtps_fedcba9876543210_el");
+  int pauses = 0;
+  const auto removed = mtc::qos::remove_stale_shared_memory(dir_.string(), [&](int) { ++pauses; });
+  EXPECT_EQ(removed.in_use, 1);
+  EXPECT_EQ(pauses, mtc::qos::kStaleProbeRetries);
+  EXPECT_TRUE(exists("fastrtps_fedcba9876543210_el"));
 }
 
 TEST_F(StaleSharedMemory, AMissingDirectoryIsNoError) {

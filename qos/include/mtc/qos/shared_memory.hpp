@@ -19,6 +19,7 @@
 // the shared-memory transport (dds::detail::Participant).
 #pragma once
 
+#include <functional>
 #include <string>
 
 namespace mtc::qos {
@@ -31,8 +32,15 @@ struct StaleSharedMemory {
 
 // Removes the shared-memory files of dead Fast DDS processes from `dir`
 // (default: where Fast DDS puts them on Linux). Never throws; a file it
-// cannot open or remove (another user's) is skipped.
-StaleSharedMemory remove_stale_shared_memory(const std::string& dir = "/dev/shm");
+// cannot open or remove (another user's) is skipped. A lock found held is
+// probed again up to kStaleProbeRetries times, after `pause(attempt)`
+// (default: 1, 2, 4 ms): a live Fast DDS process holds a dead peer's port
+// lock for a moment whenever it checks whether that port is a zombie, which
+// it does while it still sends to the dead peer; a single probe that meets
+// that moment would leave the dead port behind for good.
+inline constexpr int kStaleProbeRetries = 3;
+StaleSharedMemory remove_stale_shared_memory(const std::string& dir = "/dev/shm",
+                                             const std::function<void(int attempt)>& pause = {});
 
 // Once per process: remove_stale_shared_memory() on the first call, nothing
 // after it (a process's own participants are alive).
