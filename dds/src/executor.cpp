@@ -96,16 +96,20 @@ void Executor::stop() {
 void Executor::release() {
   // Still the owner: nothing else reads the state while next_wake_ does.
   const auto wake = next_wake_ ? next_wake_() : Clock::time_point::max();
+  bool wake_executor = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     wake_at_ = wake;
     busy_ = false;
     // Progress: what is waiting now is owed from now on.
     owed_since_ = tasks_.empty() ? Clock::time_point{} : Clock::now();
+    // After an inline step, the executor thread has work only if it waits
+    // for the state, if tasks came meanwhile, or if the step moved the next
+    // instant before the one it sleeps on.
+    wake_executor = sleeping_on_state_ || !tasks_.empty() || stopping_ ||
+                    (sleeping_until_ != Clock::time_point::min() && wake < sleeping_until_);
   }
-  // After an inline step: the executor thread may wait for the state, for
-  // tasks queued meanwhile, or on an instant this step moved.
-  cv_.notify_one();
+  if (wake_executor) cv_.notify_one();
 }
 
 Executor::Clock::time_point Executor::await_work(std::unique_lock<std::mutex>& lock) {
@@ -118,18 +122,24 @@ Executor::Clock::time_point Executor::await_work(std::unique_lock<std::mutex>& l
         return wake_at_;
       }
     }
+    sleeping_on_state_ = busy_;
+    sleeping_until_ = busy_ ? Clock::time_point::max() : wake_at_;
     if (busy_ || wake_at_ == Clock::time_point::max()) {
       cv_.wait(lock);
     } else {
       cv_.wait_until(lock, wake_at_);
     }
+    sleeping_on_state_ = false;
+    sleeping_until_ = Clock::time_point::min();
   }
 }
 
 void Executor::run() {
   {
     std::unique_lock<std::mutex> lock(mutex_);
+    sleeping_on_state_ = true;
     cv_.wait(lock, [this] { return !busy_; });
+    sleeping_on_state_ = false;
     busy_ = true;
   }
   release();  // the first wake-up instant

@@ -71,6 +71,10 @@ class Executor {
   bool stopping_ = false;
   bool busy_ = false;  // a batch, on_wake or an inline step owns the state
   Clock::time_point wake_at_ = Clock::time_point::max();
+  // What the executor thread sleeps on, so that an inline step wakes it only
+  // when there is something for it (a futile wake-up is a context switch).
+  Clock::time_point sleeping_until_ = Clock::time_point::min();  // min: awake
+  bool sleeping_on_state_ = false;  // waits for an inline step to finish
   Clock::time_point owed_since_{};  // == Clock::time_point{}: owes nothing
   std::thread thread_;
 };
