@@ -71,7 +71,25 @@ void Executor::dispatch(Task task) {
     return;
   }
   guarded(task);
+  drain_while_owner();
   release();
+}
+
+void Executor::drain_while_owner() {
+  // What the step queued (a callback's command, say complete() from
+  // on_request) runs here too, while this thread owns the state anyway:
+  // handing it to the executor thread would cost the hand-off the inline
+  // step saved. One batch only: a middleware thread must not be kept from
+  // its own work by a stream of tasks; what comes after goes to the executor.
+  std::deque<Task> batch;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopping_) return;
+    batch.swap(tasks_);
+  }
+  for (auto& task : batch) {
+    guarded(task);
+  }
 }
 
 Executor::Clock::duration Executor::owed_for(Clock::time_point now) const {

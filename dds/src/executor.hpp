@@ -58,6 +58,8 @@ class Executor {
   // Waits (executor thread) until the state is free and there is work:
   // tasks, a due wake-up or stop. Returns the wake-up instant it waited for.
   Clock::time_point await_work(std::unique_lock<std::mutex>& lock);
+  // An inline step's owner runs what was queued meanwhile before it lets go.
+  void drain_while_owner();
   // The owner's last act: the next wake-up, then the state is free again.
   void release();
 

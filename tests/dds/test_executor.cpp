@@ -81,6 +81,27 @@ TEST(Executor, ABusyStateQueuesAndKeepsTheOrder) {
   EXPECT_EQ(order, (std::vector<int>{1, 2, 3}));
 }
 
+// A command a callback issues inside an inline step (complete() from
+// on_request) runs right after the step on the same thread, before it lets
+// go: no hand-off to the executor thread for it.
+TEST(Executor, WhatAnInlineStepQueuesRunsBeforeItLetsGo) {
+  Executor ex;
+  ex.set_inline_steps(true);
+  start_without_timers(ex);
+  std::vector<int> order;
+  std::thread::id nested_ran_on;
+  ex.dispatch([&] {
+    order.push_back(1);
+    ex.dispatch([&] {
+      nested_ran_on = std::this_thread::get_id();
+      order.push_back(2);
+    });
+    order.push_back(3);  // the nested task waits for this step to end
+  });
+  EXPECT_EQ(order, (std::vector<int>{1, 3, 2}));  // all done when dispatch returned
+  EXPECT_EQ(nested_ran_on, std::this_thread::get_id());
+}
+
 TEST(Executor, ManyThreadsNeverStepAtOnce) {
   Executor ex;
   ex.set_inline_steps(true);
