@@ -50,6 +50,10 @@ std::string device_name(const char* role, int round) {
 }
 constexpr const char* kInterface = "mh";
 
+// EquipmentOptions::inline_steps for both ends (--inline-steps); set once
+// before any series or peer starts.
+bool g_inline_steps = false;
+
 dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos::Transport t) {
   dds::EquipmentOptions o;
   o.domain_id = domain;
@@ -58,6 +62,7 @@ dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos
   // Every FAIL (e.g. a false comms-loss alarm on a loaded machine) clears
   // itself, so one bad handshake cannot stall the run; it is counted.
   o.recovery = dds::RecoveryPolicy::Always;
+  o.inline_steps = g_inline_steps;
   return o;
 }
 
@@ -255,7 +260,9 @@ pid_t spawn_peer(int domain, qos::Transport t, int round) {
   }
   if (pid == 0) {
     execl("/proc/self/exe", "mtc-bench-dds-latency", "--equipment-peer", "--transport", transport,
-          "--domain", dom.c_str(), "--round", round_text.c_str(), static_cast<char*>(nullptr));
+          "--domain", dom.c_str(), "--round", round_text.c_str(),
+          g_inline_steps ? "--inline-steps" : static_cast<char*>(nullptr),
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   return pid;
@@ -297,6 +304,10 @@ PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, 
 }
 
 }  // namespace
+
+void set_inline_steps(bool on) {
+  g_inline_steps = on;
+}
 
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options) {
   std::vector<Series> all;

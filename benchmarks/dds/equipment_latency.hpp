@@ -17,6 +17,10 @@ struct EquipmentBenchOptions {
   int round = 1;  // part of the devices' names: a new pair per round
 };
 
+// Both ends of every series with EquipmentOptions::inline_steps (default
+// off: the runtime's default); call before the series or the peer run.
+void set_inline_steps(bool on);
+
 // The handshake series of the runtime (mtc::dds), one per transport.
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options);
 

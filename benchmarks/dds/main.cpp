@@ -57,6 +57,7 @@ struct Options {
   std::string samples_out;
   bool raw = true;
   bool equipment = true;
+  bool inline_steps = false;
   bool peer = false;            // internal: this process is the forked ponger
   bool equipment_peer = false;  // internal: the forked responder equipment
   bool listener = false;        // internal: the ponger echoes from its listener
@@ -99,6 +100,9 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
                "seconds of ddsperf ping, plus 2 for its start-up\n(0: no Cyclone baseline)")
       .choice("--only", only, {"raw", "equipment"}, "measure only these series (default both)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE (default stdout only)")
+      .flag("--inline-steps", o.inline_steps,
+            "the equipment series with EquipmentOptions::inline_steps\n(both ends; default: off, "
+            "as the runtime)")
       .text("--samples-out", "FILE", o.samples_out,
             "write every series' samples, sorted, to FILE as\n{\"name\":[us,...],...} (for CDF "
             "plots)")
@@ -315,6 +319,7 @@ std::string to_json(const Options& o, const std::vector<Series>& all, const RunC
   json << "{\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"cores\":"
        << std::thread::hardware_concurrency() << ",\"samples\":" << o.samples
        << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds
+       << ",\"inline_steps\":" << (o.inline_steps ? "true" : "false")
        << ",\"load_average_start\":" << load_json(run.load_start)
        << ",\"load_average_end\":" << load_json(run.load_end)
        << ",\"cpu_note\":\"cpu_us_per_op: user+system CPU of every process taking part "
@@ -434,6 +439,7 @@ int main(int argc, char** argv) {
   if (const auto exit_code = parse_args(argc, argv, o)) {
     return *exit_code;
   }
+  mtc::bench::set_inline_steps(o.inline_steps);
   try {
     if (o.both_ends) {
       return print_both_ends(o);

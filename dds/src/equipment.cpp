@@ -51,7 +51,7 @@ std::future<R> EquipmentImpl::run(Fn fn) {
   }
   auto promise = std::make_shared<std::promise<R>>();
   auto future = promise->get_future();
-  executor.post([promise, fn = std::move(fn)]() mutable {
+  executor.dispatch([promise, fn = std::move(fn)]() mutable {
     try {
       if constexpr (std::is_void_v<R>) {
         fn();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <variant>
 
 #include "equipment_impl.hpp"
 #include "mtc/dds/detail/topics.hpp"
@@ -178,6 +179,7 @@ void EquipmentImpl::create_entities() {
   }
   publish_description();
 
+  executor.set_inline_steps(options.inline_steps);
   executor.start([this] { return next_wake(); }, [this](SteadyClock::time_point n) { on_wake(n); });
   start_heartbeats();
   // Pairing callbacks run on the executor like every other callback.
@@ -185,7 +187,17 @@ void EquipmentImpl::create_entities() {
   for (std::size_t g = 0; g < groups.size(); ++g) {
     groups[g]->tap = std::make_unique<detail::DomainTap>(
         *participant, *topics, tap_config(*this, g), [this, g](detail::TapEvent&& event) {
-          executor.post([this, g, ev = std::move(event)]() mutable { on_event(g, ev); });
+          // Only values may be stepped on the middleware's thread: statuses
+          // (matched, liveliness, deadline) come from threads that hold
+          // Fast DDS's discovery and timer locks, which a write must not
+          // wait for.
+          const bool value = std::holds_alternative<detail::ValueEvent>(event);
+          auto task = [this, g, ev = std::move(event)]() mutable { on_event(g, ev); };
+          if (value) {
+            executor.dispatch(std::move(task));
+          } else {
+            executor.post(std::move(task));
+          }
         });
   }
   // Posted: the executor reads the taps from then on.

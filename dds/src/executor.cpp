@@ -5,9 +5,29 @@
 
 namespace mtc::dds::detail {
 
+namespace {
+
+// A throwing task or timer must not take the executor down with it.
+template <typename Fn>
+void guarded(Fn&& fn) {
+  try {
+    fn();
+  } catch (const std::exception& e) {
+    std::cerr << "mtc::dds executor: task threw: " << e.what() << '\n';
+  } catch (...) {
+    std::cerr << "mtc::dds executor: task threw an unknown exception\n";
+  }
+}
+
+}  // namespace
+
 void Executor::start(NextWake next_wake, OnWake on_wake) {
   next_wake_ = std::move(next_wake);
   on_wake_ = std::move(on_wake);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    started_ = true;
+  }
   thread_ = std::thread([this] { run(); });
 }
 
@@ -17,12 +37,59 @@ void Executor::post(Task task) {
     if (stopping_) {
       return;
     }
-    if (tasks_.empty() && !running_ && owed_since_ == Clock::time_point{}) {
-      owed_since_ = Clock::now();
-    }
-    tasks_.push_back(std::move(task));
+    enqueue_locked(std::move(task));
   }
   cv_.notify_one();
+}
+
+void Executor::enqueue_locked(Task task) {
+  if (tasks_.empty() && !busy_ && owed_since_ == Clock::time_point{}) {
+    owed_since_ = Clock::now();
+  }
+  tasks_.push_back(std::move(task));
+}
+
+void Executor::dispatch(Task task) {
+  bool step_here = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopping_) {
+      return;
+    }
+    // Queued tasks go first (posting order), and the executor thread must
+    // exist to pick up what this step leaves behind.
+    step_here = inline_steps_ && started_ && !busy_ && tasks_.empty();
+    if (step_here) {
+      busy_ = true;
+      owed_since_ = Clock::now();
+    } else {
+      enqueue_locked(std::move(task));
+    }
+  }
+  if (!step_here) {
+    cv_.notify_one();
+    return;
+  }
+  guarded(task);
+  drain_while_owner();
+  release();
+}
+
+void Executor::drain_while_owner() {
+  // What the step queued (a callback's command, say complete() from
+  // on_request) runs here too, while this thread owns the state anyway:
+  // handing it to the executor thread would cost the hand-off the inline
+  // step saved. One batch only: a middleware thread must not be kept from
+  // its own work by a stream of tasks; what comes after goes to the executor.
+  std::deque<Task> batch;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopping_) return;
+    batch.swap(tasks_);
+  }
+  for (auto& task : batch) {
+    guarded(task);
+  }
 }
 
 Executor::Clock::duration Executor::owed_for(Clock::time_point now) const {
@@ -44,39 +111,67 @@ void Executor::stop() {
   }
 }
 
-namespace {
+void Executor::release() {
+  // Still the owner: nothing else reads the state while next_wake_ does.
+  const auto wake = next_wake_ ? next_wake_() : Clock::time_point::max();
+  bool wake_executor = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    wake_at_ = wake;
+    busy_ = false;
+    // Progress: what is waiting now is owed from now on.
+    owed_since_ = tasks_.empty() ? Clock::time_point{} : Clock::now();
+    // After an inline step, the executor thread has work only if it waits
+    // for the state, if tasks came meanwhile, or if the step moved the next
+    // instant before the one it sleeps on.
+    wake_executor = sleeping_on_state_ || !tasks_.empty() || stopping_ ||
+                    (sleeping_until_ != Clock::time_point::min() && wake < sleeping_until_);
+  }
+  if (wake_executor) cv_.notify_one();
+}
 
-// A throwing task or timer must not take the executor down with it.
-template <typename Fn>
-void guarded(Fn&& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    std::cerr << "mtc::dds executor: task threw: " << e.what() << '\n';
-  } catch (...) {
-    std::cerr << "mtc::dds executor: task threw an unknown exception\n";
+Executor::Clock::time_point Executor::await_work(std::unique_lock<std::mutex>& lock) {
+  for (;;) {
+    if (!busy_) {
+      if (stopping_ || !tasks_.empty()) {
+        return wake_at_;
+      }
+      if (wake_at_ != Clock::time_point::max() && Clock::now() >= wake_at_) {
+        return wake_at_;
+      }
+    }
+    sleeping_on_state_ = busy_;
+    sleeping_until_ = busy_ ? Clock::time_point::max() : wake_at_;
+    if (busy_ || wake_at_ == Clock::time_point::max()) {
+      cv_.wait(lock);
+    } else {
+      cv_.wait_until(lock, wake_at_);
+    }
+    sleeping_on_state_ = false;
+    sleeping_until_ = Clock::time_point::min();
   }
 }
 
-}  // namespace
-
 void Executor::run() {
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    sleeping_on_state_ = true;
+    cv_.wait(lock, [this] { return !busy_; });
+    sleeping_on_state_ = false;
+    busy_ = true;
+  }
+  release();  // the first wake-up instant
   std::deque<Task> batch;
   for (;;) {
-    const auto wake = next_wake_ ? next_wake_() : Clock::time_point::max();
+    Clock::time_point wake;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      auto ready = [this] { return stopping_ || !tasks_.empty(); };
-      if (wake == Clock::time_point::max()) {
-        cv_.wait(lock, ready);
-      } else {
-        cv_.wait_until(lock, wake, ready);
-      }
+      wake = await_work(lock);
       batch.swap(tasks_);
       if (stopping_ && batch.empty()) {
         return;
       }
-      running_ = true;
+      busy_ = true;
       if (owed_since_ == Clock::time_point{}) {
         owed_since_ = Clock::now();  // a timer's work
       }
@@ -88,10 +183,7 @@ void Executor::run() {
     if (on_wake_ && Clock::now() >= wake) {
       guarded([this] { on_wake_(Clock::now()); });
     }
-    std::lock_guard<std::mutex> lock(mutex_);
-    running_ = false;
-    // Progress: what is waiting now is owed from now on.
-    owed_since_ = tasks_.empty() ? Clock::time_point{} : Clock::now();
+    release();
   }
 }
 

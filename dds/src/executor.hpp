@@ -1,7 +1,11 @@
-// Internal: the single thread on which an Equipment or DomainObserver runs
-// everything that touches its state: queued tasks (DDS events handed off by
-// listeners, application commands) and timers. Waits on a condition
-// variable until the next task or the next wake-up instant; never sleeps.
+// Internal: the owner of an Equipment's or DomainObserver's state. Everything
+// that touches that state runs one task at a time, in posting order: queued
+// tasks (DDS events handed off by listeners, application commands) and timers.
+// Normally on the executor's own thread, which waits on a condition variable
+// until the next task or the next wake-up instant and never sleeps. With
+// inline stepping switched on, dispatch() runs a task at once on the calling
+// thread (a middleware thread, an application thread) when the state is idle:
+// one thread hand-off less per step, the same one-at-a-time guarantee.
 #pragma once
 
 #include <chrono>
@@ -17,7 +21,7 @@ class Executor {
  public:
   using Clock = std::chrono::steady_clock;
   using Task = std::function<void()>;
-  // Called on the executor thread after every batch of tasks: returns the
+  // Called by whoever owns the state after every batch of tasks: returns the
   // next instant `on_wake` wants to run (Clock::time_point::max() = none).
   using NextWake = std::function<Clock::time_point()>;
   using OnWake = std::function<void(Clock::time_point now)>;
@@ -27,9 +31,15 @@ class Executor {
   Executor(const Executor&) = delete;
   Executor& operator=(const Executor&) = delete;
 
+  // Before start(): let dispatch() step inline (default: never).
+  void set_inline_steps(bool on) noexcept { inline_steps_ = on; }
   void start(NextWake next_wake, OnWake on_wake);
-  // Thread-safe; tasks run in posting order. Ignored after stop().
+  // Thread-safe; tasks run in posting order, on the executor thread. Ignored
+  // after stop().
   void post(Task task);
+  // Like post(), but with inline steps on, a task that finds the state idle
+  // (nothing queued, nothing running) runs now on the calling thread.
+  void dispatch(Task task);
   // Runs the remaining queued tasks, then joins. Idempotent.
   void stop();
   bool on_executor_thread() const noexcept {
@@ -44,14 +54,29 @@ class Executor {
 
  private:
   void run();
+  void enqueue_locked(Task task);  // mutex_ held
+  // Waits (executor thread) until the state is free and there is work:
+  // tasks, a due wake-up or stop. Returns the wake-up instant it waited for.
+  Clock::time_point await_work(std::unique_lock<std::mutex>& lock);
+  // An inline step's owner runs what was queued meanwhile before it lets go.
+  void drain_while_owner();
+  // The owner's last act: the next wake-up, then the state is free again.
+  void release();
 
   NextWake next_wake_;
   OnWake on_wake_;
+  bool inline_steps_ = false;
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Task> tasks_;
+  bool started_ = false;
   bool stopping_ = false;
-  bool running_ = false;            // a batch or on_wake is executing
+  bool busy_ = false;  // a batch, on_wake or an inline step owns the state
+  Clock::time_point wake_at_ = Clock::time_point::max();
+  // What the executor thread sleeps on, so that an inline step wakes it only
+  // when there is something for it (a futile wake-up is a context switch).
+  Clock::time_point sleeping_until_ = Clock::time_point::min();  // min: awake
+  bool sleeping_on_state_ = false;  // waits for an inline step to finish
   Clock::time_point owed_since_{};  // == Clock::time_point{}: owes nothing
   std::thread thread_;
 };

@@ -18,14 +18,16 @@
 // Threading: every application callback runs on this object's single
 // executor thread, in order; DDS listeners only copy and hand off; the core
 // machines and timers (time limits, heartbeat) are touched only on that
-// thread. Commands (request(), complete(), ...) may be called from any
-// thread, including from callbacks; they return futures that become ready
-// once the executor has applied them. Never block on such a future inside a
-// callback (the executor would wait for itself), never destroy the Equipment
-// from its own callback, and keep callbacks short: the heartbeat thread
-// withholds the heartbeat while the executor makes no progress for a lease,
-// so a callback that blocks for a lease looks like a hung device to the
-// peers (which is what it is).
+// thread. With EquipmentOptions::inline_steps, a received value or a command
+// that finds the equipment idle is stepped at once on the thread that brought
+// it instead; still one step at a time and in order. Commands (request(),
+// complete(), ...) may be called from any thread, including from callbacks;
+// they return futures that become ready once the executor has applied them.
+// Never block on such a future inside a callback (the executor would wait for
+// itself), never destroy the Equipment from its own callback, and keep
+// callbacks short: the heartbeat thread withholds the heartbeat while the
+// executor makes no progress for a lease, so a callback that blocks for a
+// lease looks like a hung device to the peers (which is what it is).
 #pragma once
 
 #include <chrono>
@@ -227,6 +229,13 @@ struct EquipmentOptions {
   // long after the first candidate's announcement before choosing, so that
   // counterparts started together are all candidates (0..60 s).
   std::chrono::milliseconds pairing_settle{500};
+  // false: every DDS event and command is handed to this equipment's
+  // executor thread. true: one that finds the equipment idle is stepped at
+  // once on the thread that brought it (a Fast DDS receive thread, or the
+  // application thread calling a command): a thread hand-off less per
+  // transit (docs/benchmarks.md). Callbacks still run one at a time and in
+  // order, but possibly on those threads: they must not block.
+  bool inline_steps = false;
 };
 
 class Equipment;
