@@ -27,9 +27,9 @@ void start_without_timers(Executor& ex) {
 }
 
 TEST(Executor, WithoutInlineStepsEveryTaskRunsOnTheExecutorThread) {
-  Executor ex;
-  start_without_timers(ex);
   std::promise<bool> on_executor;
+  Executor ex;  // after what its tasks touch: destroyed (and joined) first
+  start_without_timers(ex);
   ex.dispatch([&] { on_executor.set_value(ex.on_executor_thread()); });
   auto f = on_executor.get_future();
   ASSERT_EQ(f.wait_for(kGenerous), std::future_status::ready);
@@ -46,13 +46,15 @@ TEST(Executor, AnIdleStateIsSteppedOnTheCallingThread) {
 }
 
 TEST(Executor, ABusyStateQueuesAndKeepsTheOrder) {
-  Executor ex;
-  ex.set_inline_steps(true);
-  start_without_timers(ex);
   std::promise<void> release_first;
   std::promise<void> first_running;
   std::vector<int> order;  // touched only by tasks: one at a time
   std::promise<void> all_done;
+  const auto me = std::this_thread::get_id();
+  std::atomic<bool> ran_here{false};
+  Executor ex;  // after what its tasks touch: destroyed (and joined) first
+  ex.set_inline_steps(true);
+  start_without_timers(ex);
   std::thread holder([&] {
     ex.dispatch([&] {
       order.push_back(1);
@@ -62,8 +64,6 @@ TEST(Executor, ABusyStateQueuesAndKeepsTheOrder) {
   });
   first_running.get_future().wait();
   // The state is busy: these two must not run here, nor before the first.
-  const auto me = std::this_thread::get_id();
-  std::atomic<bool> ran_here{false};
   ex.dispatch([&] {
     ran_here = ran_here || std::this_thread::get_id() == me;
     order.push_back(2);
@@ -103,15 +103,16 @@ TEST(Executor, WhatAnInlineStepQueuesRunsBeforeItLetsGo) {
 }
 
 TEST(Executor, ManyThreadsNeverStepAtOnce) {
-  Executor ex;
-  ex.set_inline_steps(true);
-  start_without_timers(ex);
   constexpr int kThreads = 4;
   constexpr int kEach = 2000;
   std::atomic<int> inside{0};
   std::atomic<int> overlaps{0};
   int count = 0;  // unsynchronised on purpose: TSan reports a second owner
   std::promise<void> last;
+  // Declared after what its tasks touch: destroyed (and joined) first.
+  Executor ex;
+  ex.set_inline_steps(true);
+  start_without_timers(ex);
   std::vector<std::thread> threads;
   for (int t = 0; t < kThreads; ++t) {
     threads.emplace_back([&] {
@@ -134,11 +135,11 @@ TEST(Executor, ManyThreadsNeverStepAtOnce) {
 // An inline step that moves the next wake-up earlier must wake the executor
 // thread, which was waiting for an instant far away.
 TEST(Executor, AnInlineStepThatMovesTheWakeUpIsHonoured) {
-  Executor ex;
-  ex.set_inline_steps(true);
   Clock::time_point next = Clock::time_point::max();  // read by the owner only
   std::promise<bool> woke;
   std::atomic<bool> fired{false};
+  Executor ex;  // after what its callbacks touch: destroyed (and joined) first
+  ex.set_inline_steps(true);
   ex.start([&] { return next; },
            [&](Clock::time_point) {
              if (!fired.exchange(true)) {
@@ -180,11 +181,11 @@ TEST(Executor, StopWaitsForAStepInProgressAndRefusesNewOnes) {
 }
 
 TEST(Executor, TheWatchdogSeesAStuckInlineStep) {
+  std::promise<void> running;
+  std::promise<void> finish;
   Executor ex;
   ex.set_inline_steps(true);
   start_without_timers(ex);
-  std::promise<void> running;
-  std::promise<void> finish;
   std::thread stepper([&] {
     ex.dispatch([&] {
       running.set_value();

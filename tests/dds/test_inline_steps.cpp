@@ -41,9 +41,9 @@ struct InlineCell {
 // Every service completes, and no two callbacks of one equipment ever run
 // at once although they may now come from several threads.
 TEST(InlineSteps, EveryServiceCompletesAndCallbacksNeverOverlap) {
-  InlineCell cell(161);
-  std::atomic<int> inside{0};
+  std::atomic<int> inside{0};  // before the cell: outlives its callbacks
   std::atomic<int> overlaps{0};
+  InlineCell cell(161);
   std::vector<Requester*> requesters;
   for (auto service : core::kAllServices) {
     requesters.push_back(&cell.cnc.add_requester("mh1", service));
