@@ -16,19 +16,15 @@
 // DDS domains 109 (throughput) and 115 (start-up) by default (benchmarks and
 // the cell own 100-119). Must run inside the loopback-only namespace:
 // benchmarks/run.sh does that.
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
+// The pairs' two processes are in pairs.cpp, the load generator in load.cpp.
+#include <sys/types.h>
 
 #include <array>
 #include <chrono>
-#include <condition_variable>
 #include <fstream>
 #include <future>
 #include <iostream>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -37,12 +33,14 @@
 
 #include "../dds/latency_stats.hpp"
 #include "../dds/proc_cpu.hpp"
+#include "load.hpp"
 #include "mtc/bench/cli.hpp"
 #include "mtc/dds/equipment.hpp"
+#include "pairs.hpp"
 
+namespace mtc::bench::scale {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 using mtc::core::Service;
 
@@ -104,223 +102,6 @@ std::vector<int> parse_pairs(const std::string& text) {
   return pairs;
 }
 
-std::string device(const char* role, int index) {
-  return std::string("scale-") + role + "-" + std::to_string(index);
-}
-
-std::string interface_id(int index) {
-  return "if" + std::to_string(index);
-}
-
-mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain) {
-  mtc::dds::EquipmentOptions o;
-  o.domain_id = domain;
-  o.device_uuid = uuid;
-  o.transport = mtc::qos::Transport::Loopback;
-  o.recovery = mtc::dds::RecoveryPolicy::Always;  // a false alarm must not stall a pair
-  return o;
-}
-
-// Quiet about the filtered false-loss notes, loud about anything else.
-mtc::dds::EquipmentCallbacks quiet_callbacks() {
-  mtc::dds::EquipmentCallbacks cb;
-  cb.on_diagnostic = [](const std::string& text) {
-    if (text.rfind("ignored", 0) != 0) {
-      std::cerr << "runtime: " << text << "\n";
-    }
-  };
-  return cb;
-}
-
-void add_pairing(mtc::dds::Equipment& e, const std::string& peer_device, int interfaces) {
-  for (int k = 0; k < interfaces; ++k) {
-    mtc::dds::InterfaceConfig c;
-    c.id = interface_id(k);
-    c.type = mtc::core::InterfaceType::MaterialHandler;
-    c.counterpart = {peer_device, c.id};
-    e.add_interface(c);
-  }
-}
-
-// Completes every request at once. The runtime may hand a request to
-// on_request before start() has returned (the executor runs while start()
-// still creates entities; a command then throws "call start() first"):
-// such requests are completed once start() is back.
-class Completer {
- public:
-  mtc::dds::ResponderCallbacks callbacks() {
-    mtc::dds::ResponderCallbacks cb;
-    cb.on_request = [this](mtc::dds::Responder& r) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (!started_) {
-          pending_.push_back(&r);
-          return;
-        }
-      }
-      r.complete();
-    };
-    return cb;
-  }
-
-  void started() {
-    std::vector<mtc::dds::Responder*> pending;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      started_ = true;
-      pending.swap(pending_);
-    }
-    for (auto* r : pending) {
-      r->complete();
-    }
-  }
-
- private:
-  std::mutex mutex_;
-  bool started_ = false;
-  std::vector<mtc::dds::Responder*> pending_;
-};
-
-int run_peer(const Options& o) {
-  prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the benchmark
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGTERM);
-  sigaddset(&set, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &set, nullptr);  // before the runtime starts threads
-  std::vector<std::unique_ptr<Completer>> completers;
-  std::vector<std::unique_ptr<mtc::dds::Equipment>> all;
-  for (int d = 0; d < o.devices; ++d) {
-    completers.push_back(std::make_unique<Completer>());
-    auto e = std::make_unique<mtc::dds::Equipment>(equipment_options(device("resp", d), o.domain),
-                                                   quiet_callbacks());
-    add_pairing(*e, device("req", d), o.interfaces);
-    for (int k = 0; k < o.interfaces; ++k) {
-      e->add_responder(interface_id(k), Service::MaterialLoad, completers.back()->callbacks());
-    }
-    e->start();
-    completers.back()->started();
-    all.push_back(std::move(e));
-  }
-  int sig = 0;
-  sigwait(&set, &sig);
-  return 0;
-}
-
-pid_t spawn_peer(int devices, int interfaces, int domain) {
-  const std::string d = std::to_string(devices);
-  const std::string i = std::to_string(interfaces);
-  const std::string dom = std::to_string(domain);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    throw std::runtime_error("fork failed");
-  }
-  if (pid == 0) {
-    execl("/proc/self/exe", "mtc-bench-scale", "--peer", "--devices", d.c_str(), "--interfaces",
-          i.c_str(), "--domain", dom.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
-void stop_peer(pid_t pid) {
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
-}
-
-long rss_kb(pid_t pid) {
-  std::ifstream status(pid == 0 ? std::string("/proc/self/status")
-                                : "/proc/" + std::to_string(pid) + "/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmRSS:") {
-      long kb = 0;
-      status >> kb;
-      return kb;
-    }
-    status.ignore(4096, '\n');
-  }
-  return -1;
-}
-
-// True once every requester sees its responder READY, within `timeout`.
-bool wait_all_ready(const std::vector<mtc::dds::Requester*>& requesters, Clock::duration timeout) {
-  const auto deadline = Clock::now() + timeout;
-  for (;;) {
-    bool all = true;
-    for (const auto* r : requesters) {
-      all = all && r->counterpart_state() == mtc::core::InteractionState::Ready;
-    }
-    if (all) {
-      return true;
-    }
-    if (Clock::now() > deadline) {
-      return false;
-    }
-    // Discovery and pairing: outside every timed section but start-up's,
-    // whose resolution this sets (1 ms against hundreds).
-    std::this_thread::sleep_for(1ms);
-  }
-}
-
-// Every pair's requester, re-issuing its request from the previous one's
-// result callback (on the requester's executor) until the deadline.
-class Chains {
- public:
-  Chains(std::vector<mtc::dds::Requester*> requesters, Clock::time_point end)
-      : requesters_(std::move(requesters)), end_(end) {}
-
-  void start() {
-    running_ = requesters_.size();
-    for (auto* r : requesters_) {
-      issue(*r);
-    }
-  }
-
-  // Waits until every chain has stopped (bounded: a stuck request still
-  // times out through wait_for_ready and the time limits).
-  bool wait(Clock::duration timeout) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    return stopped_.wait_for(lock, timeout, [&] { return running_ == 0; });
-  }
-
-  std::vector<double> samples_us;
-  std::size_t failed = 0;
-  Clock::time_point last_result;
-
- private:
-  void issue(mtc::dds::Requester& r) {
-    r.request(mtc::dds::RequestOptions{2000ms},
-              [this, &r](const mtc::dds::RequestResult& result) { on_result(r, result); });
-  }
-
-  void on_result(mtc::dds::Requester& r, const mtc::dds::RequestResult& result) {
-    const auto now = Clock::now();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (result.outcome == mtc::dds::Outcome::Completed) {
-        samples_us.push_back(mtc::bench::to_us(result.elapsed));
-      } else {
-        ++failed;
-      }
-      last_result = now;
-      if (now >= end_) {
-        if (--running_ == 0) {
-          stopped_.notify_all();
-        }
-        return;
-      }
-    }
-    issue(r);
-  }
-
-  std::vector<mtc::dds::Requester*> requesters_;
-  Clock::time_point end_;
-  std::mutex mutex_;
-  std::condition_variable stopped_;
-  std::size_t running_ = 0;
-};
-
 struct Level {
   int pairs = 0;
   double seconds = 0;
@@ -363,9 +144,9 @@ Level run_level(const Options& o, int pairs) {
     }
     level.cpu_requester_s = mtc::bench::cpu_seconds(0) - cpu_req0;
     level.cpu_responder_s = mtc::bench::cpu_seconds(peer) - cpu_resp0;
-    level.seconds = mtc::bench::to_us(chains.last_result - start) / 1e6;
-    level.series.samples_us = std::move(chains.samples_us);
-    level.failed = chains.failed;
+    level.seconds = mtc::bench::to_us(chains.tally().last_result - start) / 1e6;
+    level.series.samples_us = std::move(chains.tally().samples_us);
+    level.failed = chains.tally().failed;
     level.requester_rss_kb = rss_kb(0);
     level.responder_rss_kb = rss_kb(peer);
   } catch (...) {
@@ -521,14 +302,16 @@ int run(const Options& o) {
 }
 
 }  // namespace
+}  // namespace mtc::bench::scale
 
 int main(int argc, char** argv) {
-  Options o;
-  if (const auto exit_code = parse_args(argc, argv, o)) {
+  namespace scale = mtc::bench::scale;
+  scale::Options o;
+  if (const auto exit_code = scale::parse_args(argc, argv, o)) {
     return *exit_code;
   }
   try {
-    return o.peer ? run_peer(o) : run(o);
+    return o.peer ? scale::run_peer(o.devices, o.interfaces, o.domain) : scale::run(o);
   } catch (const std::exception& e) {
     std::cerr << "mtc-bench-scale: " << e.what() << "\n";
     return 1;
