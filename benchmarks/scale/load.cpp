@@ -53,8 +53,10 @@ void Chains::on_result(mtc::dds::Requester& r, const mtc::dds::RequestResult& re
   issue(r);
 }
 
-Pacer::Pacer(std::vector<mtc::dds::Requester*> requesters, double rate, Clock::duration length)
+Pacer::Pacer(const std::vector<mtc::dds::Requester*>& requesters, double rate,
+             Clock::duration length)
     : rate_(rate), length_(length) {
+  pairs_.reserve(requesters.size());
   for (auto* r : requesters) {
     pairs_.push_back(Pair{r, false, {}});
   }

@@ -31,8 +31,6 @@ struct Tally {
 class Chains {
  public:
   Chains(std::vector<mtc::dds::Requester*> requesters, Clock::time_point end);
-  Chains(const Chains&) = delete;
-  Chains& operator=(const Chains&) = delete;
 
   void start();
   // Waits until every chain has stopped (bounded: a stuck request still
@@ -65,7 +63,7 @@ class Pacer {
  public:
   // The schedule runs from start() (plus a few milliseconds for the thread
   // to start) for `length`.
-  Pacer(std::vector<mtc::dds::Requester*> requesters, double rate, Clock::duration length);
+  Pacer(const std::vector<mtc::dds::Requester*>& requesters, double rate, Clock::duration length);
   Pacer(const Pacer&) = delete;
   Pacer& operator=(const Pacer&) = delete;
   // Stops the schedule and waits (bounded) for the requests in flight: their
