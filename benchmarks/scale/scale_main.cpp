@@ -86,8 +86,7 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .integer("--domain", o.domain, 0, 232, "DDS domain of the throughput levels")
       .integer("--startup-domain", o.startup_domain, 0, 232, "DDS domain of the start-up")
       .integer("--paced", o.paced, 0, 1000000,
-               "after each closed loop, offer this many handshakes/s in total (0: no paced "
-               "series)")
+               "handshakes/s offered in total after each closed loop (0: none)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE")
       .internal_options_follow()
       .flag("--peer", o.peer, "be the responder process")
