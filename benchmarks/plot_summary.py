@@ -81,11 +81,15 @@ def plot_scale(results, scale):
     if not levels:
         return []
     dat = os.path.join(results, "scale.dat")
+    paced = [l.get("paced") for l in levels]
     with open(dat, "w") as f:
-        f.write("# pairs handshakes_per_s p50_ms p99_ms\n")
-        for l in levels:
-            f.write("%s %s %s %s\n" % (l["pairs"], l["handshakes_per_s"], l["p50"] / 1000,
-                                      l["p99"] / 1000))
+        f.write("# pairs handshakes_per_s p50_ms p99_ms paced_p99_ms\n")
+        for l, p in zip(levels, paced):
+            f.write("%s %s %s %s %s\n" % (l["pairs"], l["handshakes_per_s"], l["p50"] / 1000,
+                                         l["p99"] / 1000, p["p99"] / 1000 if p else "NaN"))
+    rate = next((p["offered_per_s"] for p in paced if p), None)
+    paced_plot = (', "%s" using 1:5 axes x1y2 with linespoints lw 2 dt 3 '
+                  'title "p99 paced at %g/s (ms)"' % (dat, rate)) if rate else ""
     stem = os.path.join(results, "scaling")
     gnuplot(stem + ".gp", terminal() +
             'set output "%s.png"\n' % stem +
@@ -96,8 +100,9 @@ def plot_scale(results, scale):
             "set yrange [0:*]\nset logscale y2\n"
             'plot "%s" using 1:2 with linespoints lw 2 pt 7 title "handshakes/s", '
             '"%s" using 1:3 axes x1y2 with linespoints lw 2 title "p50 (ms)", '
-            '"%s" using 1:4 axes x1y2 with linespoints lw 2 title "p99 (ms)", '
-            '5000 with lines dt 2 title "target at 100 pairs: 5,000/s"\n' % (dat, dat, dat))
+            '"%s" using 1:4 axes x1y2 with linespoints lw 2 title "p99 (ms)"%s, '
+            '5000 with lines dt 2 title "target at 100 pairs: 5,000/s"\n'
+            % (dat, dat, dat, paced_plot))
     return [stem + ".png"]
 
 

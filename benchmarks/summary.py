@@ -129,6 +129,8 @@ def required(summary):
                        (level.get("handshakes") or 0) > 0))
         checks.append(("scale.levels[pairs=%d].responder_rss_kb" % pairs,
                        (level.get("responder_rss_kb") or 0) > 0))
+        checks.append(("scale.levels[pairs=%d].paced.handshakes" % pairs,
+                       ((level.get("paced") or {}).get("handshakes") or 0) > 0))
     checks.append(("scale.startup.all_ready_ms",
                    ((scale.get("startup") or {}).get("all_ready_ms") or -1) > 0))
     checks.append(("bridge.current.requests_per_second",

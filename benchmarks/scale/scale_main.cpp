@@ -9,6 +9,12 @@
 //   covers a whole handshake), CPU of both processes, and the RSS of each
 //   equipment (the responder is a fresh process per level: its RSS is the
 //   cost of an equipment with that many interfaces).
+// * Paced (--paced RATE, after each level's closed loop, as long): the same
+//   pairs offered RATE handshakes/s in total, each pair asking at
+//   RATE/pairs per second on a fixed schedule (an open loop, see load.hpp),
+//   latency from each scheduled instant. A closed loop's latency is set by
+//   Little's law (pairs in flight / throughput); the paced series says what a
+//   load below capacity costs.
 // * Start-up: --startup-devices devices on one domain, half of them
 //   requesters here and half responders in a child, one interface pair
 //   each: time from the start until every pair is matched and READY.
@@ -16,19 +22,15 @@
 // DDS domains 109 (throughput) and 115 (start-up) by default (benchmarks and
 // the cell own 100-119). Must run inside the loopback-only namespace:
 // benchmarks/run.sh does that.
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
+// The pairs' two processes are in pairs.cpp, the load generators in load.cpp.
+#include <sys/types.h>
 
 #include <array>
 #include <chrono>
-#include <condition_variable>
 #include <fstream>
 #include <future>
 #include <iostream>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -37,12 +39,14 @@
 
 #include "../dds/latency_stats.hpp"
 #include "../dds/proc_cpu.hpp"
+#include "load.hpp"
 #include "mtc/bench/cli.hpp"
 #include "mtc/dds/equipment.hpp"
+#include "pairs.hpp"
 
+namespace mtc::bench::scale {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 using mtc::core::Service;
 
@@ -53,6 +57,7 @@ struct Options {
   int domain = 109;
   int startup_domain = 115;
   std::string out;
+  int paced = 0;      // handshakes/s offered in total by the paced series; 0: none
   bool peer = false;  // internal: be the responder process
   int devices = 1;    // internal: responder devices in the peer
   int interfaces = 1;
@@ -62,10 +67,14 @@ constexpr const char* kAbout =
     "Throughput and latency with 1, 10, 100 interface pairs handshaking concurrently\n"
     "between two processes (handshakes/s, p50/p99/p99.9, CPU, RSS of an equipment with\n"
     "that many interfaces), and the start-up of N devices on one domain (time until\n"
-    "every pair is matched and READY). DDS domains 109 and 115: runs inside the\n"
-    "loopback-only namespace (benchmarks/run.sh does that). Progress on stderr; one JSON\n"
-    "object on stdout and, with --out, in FILE:\n"
-    "  {\"benchmark\":\"scale\",\"levels\":[{pairs,handshakes_per_s,p50,p99,...}],\n"
+    "every pair is matched and READY). Each level is a closed loop (every pair asks\n"
+    "again as soon as its last handshake ended); with --paced RATE it is followed by an\n"
+    "open loop as long, offering RATE handshakes/s in total (RATE/pairs per pair, phases\n"
+    "staggered), latency timed from each request's scheduled instant. DDS domains 109\n"
+    "and 115: runs inside the loopback-only namespace (benchmarks/run.sh does that).\n"
+    "Progress on stderr; one JSON object on stdout and, with --out, in FILE:\n"
+    "  {\"benchmark\":\"scale\",\"levels\":[{pairs,handshakes_per_s,p50,p99,...,\n"
+    "     \"paced\":{offered_per_s,achieved_per_s,failed,p50,p99,...} or null}],\n"
     "   \"startup\":{devices,all_ready_ms,...},\"targets\":{...}}";
 
 std::optional<int> parse_args(int argc, char** argv, Options& o) {
@@ -76,6 +85,8 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
                "devices in the start-up measurement (even; 0: skip it)")
       .integer("--domain", o.domain, 0, 232, "DDS domain of the throughput levels")
       .integer("--startup-domain", o.startup_domain, 0, 232, "DDS domain of the start-up")
+      .integer("--paced", o.paced, 0, 1000000,
+               "handshakes/s offered in total after each closed loop (0: none)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE")
       .internal_options_follow()
       .flag("--peer", o.peer, "be the responder process")
@@ -104,231 +115,100 @@ std::vector<int> parse_pairs(const std::string& text) {
   return pairs;
 }
 
-std::string device(const char* role, int index) {
-  return std::string("scale-") + role + "-" + std::to_string(index);
-}
-
-std::string interface_id(int index) {
-  return "if" + std::to_string(index);
-}
-
-mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain) {
-  mtc::dds::EquipmentOptions o;
-  o.domain_id = domain;
-  o.device_uuid = uuid;
-  o.transport = mtc::qos::Transport::Loopback;
-  o.recovery = mtc::dds::RecoveryPolicy::Always;  // a false alarm must not stall a pair
-  return o;
-}
-
-// Quiet about the filtered false-loss notes, loud about anything else.
-mtc::dds::EquipmentCallbacks quiet_callbacks() {
-  mtc::dds::EquipmentCallbacks cb;
-  cb.on_diagnostic = [](const std::string& text) {
-    if (text.rfind("ignored", 0) != 0) {
-      std::cerr << "runtime: " << text << "\n";
-    }
-  };
-  return cb;
-}
-
-void add_pairing(mtc::dds::Equipment& e, const std::string& peer_device, int interfaces) {
-  for (int k = 0; k < interfaces; ++k) {
-    mtc::dds::InterfaceConfig c;
-    c.id = interface_id(k);
-    c.type = mtc::core::InterfaceType::MaterialHandler;
-    c.counterpart = {peer_device, c.id};
-    e.add_interface(c);
-  }
-}
-
-// Completes every request at once. The runtime may hand a request to
-// on_request before start() has returned (the executor runs while start()
-// still creates entities; a command then throws "call start() first"):
-// such requests are completed once start() is back.
-class Completer {
- public:
-  mtc::dds::ResponderCallbacks callbacks() {
-    mtc::dds::ResponderCallbacks cb;
-    cb.on_request = [this](mtc::dds::Responder& r) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (!started_) {
-          pending_.push_back(&r);
-          return;
-        }
-      }
-      r.complete();
-    };
-    return cb;
-  }
-
-  void started() {
-    std::vector<mtc::dds::Responder*> pending;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      started_ = true;
-      pending.swap(pending_);
-    }
-    for (auto* r : pending) {
-      r->complete();
-    }
-  }
-
- private:
-  std::mutex mutex_;
-  bool started_ = false;
-  std::vector<mtc::dds::Responder*> pending_;
-};
-
-int run_peer(const Options& o) {
-  prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the benchmark
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGTERM);
-  sigaddset(&set, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &set, nullptr);  // before the runtime starts threads
-  std::vector<std::unique_ptr<Completer>> completers;
-  std::vector<std::unique_ptr<mtc::dds::Equipment>> all;
-  for (int d = 0; d < o.devices; ++d) {
-    completers.push_back(std::make_unique<Completer>());
-    auto e = std::make_unique<mtc::dds::Equipment>(equipment_options(device("resp", d), o.domain),
-                                                   quiet_callbacks());
-    add_pairing(*e, device("req", d), o.interfaces);
-    for (int k = 0; k < o.interfaces; ++k) {
-      e->add_responder(interface_id(k), Service::MaterialLoad, completers.back()->callbacks());
-    }
-    e->start();
-    completers.back()->started();
-    all.push_back(std::move(e));
-  }
-  int sig = 0;
-  sigwait(&set, &sig);
-  return 0;
-}
-
-pid_t spawn_peer(int devices, int interfaces, int domain) {
-  const std::string d = std::to_string(devices);
-  const std::string i = std::to_string(interfaces);
-  const std::string dom = std::to_string(domain);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    throw std::runtime_error("fork failed");
-  }
-  if (pid == 0) {
-    execl("/proc/self/exe", "mtc-bench-scale", "--peer", "--devices", d.c_str(), "--interfaces",
-          i.c_str(), "--domain", dom.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
-void stop_peer(pid_t pid) {
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
-}
-
-long rss_kb(pid_t pid) {
-  std::ifstream status(pid == 0 ? std::string("/proc/self/status")
-                                : "/proc/" + std::to_string(pid) + "/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmRSS:") {
-      long kb = 0;
-      status >> kb;
-      return kb;
-    }
-    status.ignore(4096, '\n');
-  }
-  return -1;
-}
-
-// True once every requester sees its responder READY, within `timeout`.
-bool wait_all_ready(const std::vector<mtc::dds::Requester*>& requesters, Clock::duration timeout) {
-  const auto deadline = Clock::now() + timeout;
-  for (;;) {
-    bool all = true;
-    for (const auto* r : requesters) {
-      all = all && r->counterpart_state() == mtc::core::InteractionState::Ready;
-    }
-    if (all) {
-      return true;
-    }
-    if (Clock::now() > deadline) {
-      return false;
-    }
-    // Discovery and pairing: outside every timed section but start-up's,
-    // whose resolution this sets (1 ms against hundreds).
-    std::this_thread::sleep_for(1ms);
-  }
-}
-
-// Every pair's requester, re-issuing its request from the previous one's
-// result callback (on the requester's executor) until the deadline.
-class Chains {
- public:
-  Chains(std::vector<mtc::dds::Requester*> requesters, Clock::time_point end)
-      : requesters_(std::move(requesters)), end_(end) {}
-
-  void start() {
-    running_ = requesters_.size();
-    for (auto* r : requesters_) {
-      issue(*r);
-    }
-  }
-
-  // Waits until every chain has stopped (bounded: a stuck request still
-  // times out through wait_for_ready and the time limits).
-  bool wait(Clock::duration timeout) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    return stopped_.wait_for(lock, timeout, [&] { return running_ == 0; });
-  }
-
-  std::vector<double> samples_us;
-  std::size_t failed = 0;
-  Clock::time_point last_result;
-
- private:
-  void issue(mtc::dds::Requester& r) {
-    r.request(mtc::dds::RequestOptions{2000ms},
-              [this, &r](const mtc::dds::RequestResult& result) { on_result(r, result); });
-  }
-
-  void on_result(mtc::dds::Requester& r, const mtc::dds::RequestResult& result) {
-    const auto now = Clock::now();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (result.outcome == mtc::dds::Outcome::Completed) {
-        samples_us.push_back(mtc::bench::to_us(result.elapsed));
-      } else {
-        ++failed;
-      }
-      last_result = now;
-      if (now >= end_) {
-        if (--running_ == 0) {
-          stopped_.notify_all();
-        }
-        return;
-      }
-    }
-    issue(r);
-  }
-
-  std::vector<mtc::dds::Requester*> requesters_;
-  Clock::time_point end_;
-  std::mutex mutex_;
-  std::condition_variable stopped_;
-  std::size_t running_ = 0;
+// One timed series of a level: its handshakes and the CPU both processes
+// spent meanwhile.
+struct Run {
+  double seconds = 0;  // first request (or instant) to the last result
+  Tally tally;
+  double cpu_requester_s = 0, cpu_responder_s = 0;
+  double offered_per_s = 0;    // paced only
+  std::size_t not_issued = 0;  // paced only: dropped when the backlog did not drain
 };
 
 struct Level {
   int pairs = 0;
-  double seconds = 0;
-  mtc::bench::Series series;
-  std::size_t failed = 0;
-  double cpu_requester_s = 0, cpu_responder_s = 0;
+  Run closed;
+  std::optional<Run> paced;
   long requester_rss_kb = -1, responder_rss_kb = -1;
 };
+
+// CPU seconds of this process and the peer from construction to close().
+class CpuWindow {
+ public:
+  explicit CpuWindow(pid_t peer)
+      : peer_(peer),
+        requester0_(mtc::bench::cpu_seconds(0)),
+        responder0_(mtc::bench::cpu_seconds(peer)) {}
+  void close(Run& run) const {
+    run.cpu_requester_s = mtc::bench::cpu_seconds(0) - requester0_;
+    run.cpu_responder_s = mtc::bench::cpu_seconds(peer_) - responder0_;
+  }
+
+ private:
+  pid_t peer_;
+  double requester0_, responder0_;
+};
+
+Run run_closed(const Options& o, pid_t peer, const std::vector<mtc::dds::Requester*>& requesters) {
+  const CpuWindow cpu(peer);
+  const auto start = Clock::now();
+  Chains chains(requesters, start + std::chrono::seconds(o.seconds));
+  chains.start();
+  if (!chains.wait(std::chrono::seconds(o.seconds) + 30s)) {
+    throw std::runtime_error("handshake chains did not stop");
+  }
+  Run run;
+  cpu.close(run);
+  run.tally = std::move(chains.tally());
+  run.seconds = mtc::bench::to_us(run.tally.last_result - start) / 1e6;
+  return run;
+}
+
+Run run_paced(const Options& o, pid_t peer, const std::vector<mtc::dds::Requester*>& requesters) {
+  std::cerr << "scale: " << requesters.size() << " pair(s) paced, " << o.paced << "/s, "
+            << o.seconds << " s\n";
+  // The closed loop's last handshakes may still be returning to READY.
+  if (!wait_all_ready(requesters, 10s)) {
+    throw std::runtime_error("not every pair READY again within 10 s");
+  }
+  const CpuWindow cpu(peer);
+  Pacer pacer(requesters, o.paced, std::chrono::seconds(o.seconds));
+  const auto start = pacer.start();
+  if (!pacer.wait(std::chrono::seconds(o.seconds) + 30s)) {
+    throw std::runtime_error("paced requests did not end");
+  }
+  Run run;
+  cpu.close(run);
+  run.tally = std::move(pacer.tally());
+  run.seconds = mtc::bench::to_us(run.tally.last_result - start) / 1e6;
+  run.offered_per_s = o.paced;
+  run.not_issued = pacer.not_issued();
+  if (run.not_issued > 0) {
+    std::cerr << "scale: " << run.not_issued << " paced requests never issued (counted failed)\n";
+  }
+  return run;
+}
+
+// The requester equipment with `pairs` interfaces, every pair READY and warmed up.
+std::vector<mtc::dds::Requester*> prepare(mtc::dds::Equipment& eq, int pairs) {
+  add_pairing(eq, device("resp", 0), pairs);
+  std::vector<mtc::dds::Requester*> requesters;
+  requesters.reserve(static_cast<std::size_t>(pairs));
+  for (int k = 0; k < pairs; ++k) {
+    requesters.push_back(&eq.add_requester(interface_id(k), Service::MaterialLoad));
+  }
+  eq.start();
+  if (!wait_all_ready(requesters, 30s)) {
+    throw std::runtime_error("not every pair READY within 30 s");
+  }
+  for (auto* r : requesters) {  // warm-up: one handshake per pair
+    auto done = r->request(mtc::dds::RequestOptions{2000ms});
+    if (done.wait_for(30s) != std::future_status::ready) {
+      throw std::runtime_error("warm-up handshake not done within 30 s");
+    }
+  }
+  return requesters;
+}
 
 Level run_level(const Options& o, int pairs) {
   std::cerr << "scale: " << pairs << " pair(s), " << o.seconds << " s\n";
@@ -337,37 +217,13 @@ Level run_level(const Options& o, int pairs) {
   level.pairs = pairs;
   try {
     mtc::dds::Equipment eq(equipment_options(device("req", 0), o.domain), quiet_callbacks());
-    add_pairing(eq, device("resp", 0), pairs);
-    std::vector<mtc::dds::Requester*> requesters;
-    requesters.reserve(static_cast<std::size_t>(pairs));
-    for (int k = 0; k < pairs; ++k) {
-      requesters.push_back(&eq.add_requester(interface_id(k), Service::MaterialLoad));
-    }
-    eq.start();
-    if (!wait_all_ready(requesters, 30s)) {
-      throw std::runtime_error("not every pair READY within 30 s");
-    }
-    for (auto* r : requesters) {  // warm-up: one handshake per pair
-      auto done = r->request(mtc::dds::RequestOptions{2000ms});
-      if (done.wait_for(30s) != std::future_status::ready) {
-        throw std::runtime_error("warm-up handshake not done within 30 s");
-      }
-    }
-    const double cpu_req0 = mtc::bench::cpu_seconds(0);
-    const double cpu_resp0 = mtc::bench::cpu_seconds(peer);
-    const auto start = Clock::now();
-    Chains chains(requesters, start + std::chrono::seconds(o.seconds));
-    chains.start();
-    if (!chains.wait(std::chrono::seconds(o.seconds) + 30s)) {
-      throw std::runtime_error("handshake chains did not stop");
-    }
-    level.cpu_requester_s = mtc::bench::cpu_seconds(0) - cpu_req0;
-    level.cpu_responder_s = mtc::bench::cpu_seconds(peer) - cpu_resp0;
-    level.seconds = mtc::bench::to_us(chains.last_result - start) / 1e6;
-    level.series.samples_us = std::move(chains.samples_us);
-    level.failed = chains.failed;
+    const auto requesters = prepare(eq, pairs);
+    level.closed = run_closed(o, peer, requesters);
     level.requester_rss_kb = rss_kb(0);
     level.responder_rss_kb = rss_kb(peer);
+    if (o.paced > 0) {
+      level.paced = run_paced(o, peer, requesters);
+    }
   } catch (...) {
     stop_peer(peer);
     throw;
@@ -429,26 +285,67 @@ Startup run_startup(const Options& o) {
   return s;
 }
 
-std::string level_json(const Level& l) {
-  const auto sum = mtc::bench::summarize(l.series.samples_us);
-  const double per_s = l.seconds > 0 ? static_cast<double>(sum.count) / l.seconds : 0;
-  const double cpu = l.cpu_requester_s + l.cpu_responder_s;
+double per_second(const Run& r) {
+  return r.seconds > 0 ? static_cast<double>(r.tally.samples_us.size()) / r.seconds : 0;
+}
+
+double cpu_us_per_handshake(const Run& r) {
+  const auto n = r.tally.samples_us.size();
+  return n > 0 ? (r.cpu_requester_s + r.cpu_responder_s) * 1e6 / static_cast<double>(n) : 0;
+}
+
+std::string paced_json(const Run& r) {
+  const auto sum = mtc::bench::summarize(r.tally.samples_us);
   std::ostringstream json;
-  json << "{\"pairs\":" << l.pairs << ",\"seconds\":" << l.seconds
-       << ",\"handshakes\":" << sum.count << ",\"failed\":" << l.failed
-       << ",\"handshakes_per_s\":" << per_s << ",\"p50\":" << sum.p50 << ",\"p90\":" << sum.p90
-       << ",\"p99\":" << sum.p99 << ",\"p999\":" << sum.p999 << ",\"max\":" << sum.max
-       << ",\"cpu_requester_pct\":" << (l.seconds > 0 ? 100 * l.cpu_requester_s / l.seconds : 0)
-       << ",\"cpu_responder_pct\":" << (l.seconds > 0 ? 100 * l.cpu_responder_s / l.seconds : 0)
-       << ",\"cpu_us_per_handshake\":"
-       << (sum.count > 0 ? cpu * 1e6 / static_cast<double>(sum.count) : 0)
+  json << "{\"offered_per_s\":" << r.offered_per_s << ",\"achieved_per_s\":" << per_second(r)
+       << ",\"seconds\":" << r.seconds << ",\"handshakes\":" << sum.count
+       << ",\"failed\":" << r.tally.failed << ",\"not_issued\":" << r.not_issued
+       << ",\"p50\":" << sum.p50 << ",\"p90\":" << sum.p90 << ",\"p99\":" << sum.p99
+       << ",\"p999\":" << sum.p999 << ",\"max\":" << sum.max
+       << ",\"cpu_us_per_handshake\":" << cpu_us_per_handshake(r) << "}";
+  return json.str();
+}
+
+std::string level_json(const Level& l) {
+  const Run& c = l.closed;
+  const auto sum = mtc::bench::summarize(c.tally.samples_us);
+  std::ostringstream json;
+  json << "{\"pairs\":" << l.pairs << ",\"seconds\":" << c.seconds
+       << ",\"handshakes\":" << sum.count << ",\"failed\":" << c.tally.failed
+       << ",\"handshakes_per_s\":" << per_second(c) << ",\"p50\":" << sum.p50
+       << ",\"p90\":" << sum.p90 << ",\"p99\":" << sum.p99 << ",\"p999\":" << sum.p999
+       << ",\"max\":" << sum.max
+       << ",\"cpu_requester_pct\":" << (c.seconds > 0 ? 100 * c.cpu_requester_s / c.seconds : 0)
+       << ",\"cpu_responder_pct\":" << (c.seconds > 0 ? 100 * c.cpu_responder_s / c.seconds : 0)
+       << ",\"cpu_us_per_handshake\":" << cpu_us_per_handshake(c)
        << ",\"requester_rss_kb\":" << l.requester_rss_kb
-       << ",\"responder_rss_kb\":" << l.responder_rss_kb << "}";
+       << ",\"responder_rss_kb\":" << l.responder_rss_kb
+       << ",\"paced\":" << (l.paced ? paced_json(*l.paced) : "null") << "}";
+  return json.str();
+}
+
+// The paced comparison: the paced 100-pair p99 over the single pair's
+// closed-loop p99. One pair in a closed loop has one handshake in flight
+// and nothing queued: its latency is the runtime's unloaded one. A single
+// pair offered the whole paced rate is no such basis: one pair can do only
+// ~2,000 handshakes/s, near any rate worth offering 100 pairs.
+std::string paced_targets_json(double closed_p99_1, const Level& hundred) {
+  std::ostringstream json;
+  json << ",\"p99_basis\":\"closed-loop single pair p99\"";
+  if (!hundred.paced || closed_p99_1 <= 0) {
+    json << ",\"p99_paced_100_vs_1\":null,\"p99_paced_met\":null";
+    return json.str();
+  }
+  const auto s = mtc::bench::summarize(hundred.paced->tally.samples_us);
+  const double ratio = s.p99 / closed_p99_1;
+  json << ",\"paced_offered_per_s\":" << hundred.paced->offered_per_s
+       << ",\"p99_paced_100_vs_1\":" << ratio
+       << ",\"p99_paced_met\":" << (ratio > 0 && ratio <= 3 ? "true" : "false");
   return json.str();
 }
 
 // Issue 9 section 4: >= 5,000 handshakes/s at 100 pairs, p99 <= 3x the
-// single pair's.
+// single pair's (closed loop: p99_met; paced: p99_paced_met).
 std::string targets_json(const std::vector<Level>& levels) {
   const Level* one = nullptr;
   const Level* hundred = nullptr;
@@ -459,16 +356,16 @@ std::string targets_json(const std::vector<Level>& levels) {
   if (one == nullptr || hundred == nullptr) {
     return "null";
   }
-  const auto s1 = mtc::bench::summarize(one->series.samples_us);
-  const auto s100 = mtc::bench::summarize(hundred->series.samples_us);
-  const double per_s =
-      hundred->seconds > 0 ? static_cast<double>(s100.count) / hundred->seconds : 0;
+  const auto s1 = mtc::bench::summarize(one->closed.tally.samples_us);
+  const auto s100 = mtc::bench::summarize(hundred->closed.tally.samples_us);
+  const double per_s = per_second(hundred->closed);
   const double ratio = s1.p99 > 0 ? s100.p99 / s1.p99 : 0;
   std::ostringstream json;
   json << "{\"handshakes_per_s_at_100_min\":5000,\"handshakes_per_s_at_100\":" << per_s
        << ",\"throughput_met\":" << (per_s >= 5000 ? "true" : "false")
        << ",\"p99_100_vs_1_max\":3,\"p99_100_vs_1\":" << ratio
-       << ",\"p99_met\":" << (ratio > 0 && ratio <= 3 ? "true" : "false") << "}";
+       << ",\"p99_met\":" << (ratio > 0 && ratio <= 3 ? "true" : "false")
+       << paced_targets_json(s1.p99, *hundred) << "}";
   return json.str();
 }
 
@@ -493,7 +390,8 @@ int run(const Options& o) {
        << ",\"unit\":\"us\",\"transport\":\"shm_udp\",\"load_average_start\":"
        << load_json(load_start) << ",\"load_average_end\":" << load_json(mtc::bench::load_average())
        << ",\"latency\":\"request() to its outcome, issued as soon as the previous handshake "
-          "of the pair completed\",\"levels\":[";
+          "of the pair completed\",\"paced_latency\":\"scheduled instant to the outcome "
+          "(the issue's delay plus request() to outcome)\",\"levels\":[";
   for (std::size_t i = 0; i < levels.size(); ++i) {
     json << (i == 0 ? "\n  " : ",\n  ") << level_json(levels[i]);
   }
@@ -521,14 +419,16 @@ int run(const Options& o) {
 }
 
 }  // namespace
+}  // namespace mtc::bench::scale
 
 int main(int argc, char** argv) {
-  Options o;
-  if (const auto exit_code = parse_args(argc, argv, o)) {
+  namespace scale = mtc::bench::scale;
+  scale::Options o;
+  if (const auto exit_code = scale::parse_args(argc, argv, o)) {
     return *exit_code;
   }
   try {
-    return o.peer ? run_peer(o) : run(o);
+    return o.peer ? scale::run_peer(o.devices, o.interfaces, o.domain) : scale::run(o);
   } catch (const std::exception& e) {
     std::cerr << "mtc-bench-scale: " << e.what() << "\n";
     return 1;

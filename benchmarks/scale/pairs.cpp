@@ -1,0 +1,181 @@
+#include "pairs.hpp"
+
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+namespace mtc::bench::scale {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Completes every request at once. The runtime may hand a request to
+// on_request before start() has returned (the executor runs while start()
+// still creates entities; a command then throws "call start() first"):
+// such requests are completed once start() is back.
+class Completer {
+ public:
+  mtc::dds::ResponderCallbacks callbacks() {
+    mtc::dds::ResponderCallbacks cb;
+    cb.on_request = [this](mtc::dds::Responder& r) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!started_) {
+          pending_.push_back(&r);
+          return;
+        }
+      }
+      r.complete();
+    };
+    return cb;
+  }
+
+  void started() {
+    std::vector<mtc::dds::Responder*> pending;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      started_ = true;
+      pending.swap(pending_);
+    }
+    for (auto* r : pending) {
+      r->complete();
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  bool started_ = false;
+  std::vector<mtc::dds::Responder*> pending_;
+};
+
+}  // namespace
+
+std::string device(const char* role, int index) {
+  return std::string("scale-") + role + "-" + std::to_string(index);
+}
+
+std::string interface_id(int index) {
+  return "if" + std::to_string(index);
+}
+
+mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain) {
+  mtc::dds::EquipmentOptions o;
+  o.domain_id = domain;
+  o.device_uuid = uuid;
+  o.transport = mtc::qos::Transport::Loopback;
+  o.recovery = mtc::dds::RecoveryPolicy::Always;  // a false alarm must not stall a pair
+  return o;
+}
+
+mtc::dds::EquipmentCallbacks quiet_callbacks() {
+  mtc::dds::EquipmentCallbacks cb;
+  cb.on_diagnostic = [](const std::string& text) {
+    if (text.rfind("ignored", 0) != 0) {
+      std::cerr << "runtime: " << text << "\n";
+    }
+  };
+  return cb;
+}
+
+void add_pairing(mtc::dds::Equipment& e, const std::string& peer_device, int interfaces) {
+  for (int k = 0; k < interfaces; ++k) {
+    mtc::dds::InterfaceConfig c;
+    c.id = interface_id(k);
+    c.type = mtc::core::InterfaceType::MaterialHandler;
+    c.counterpart = {peer_device, c.id};
+    e.add_interface(c);
+  }
+}
+
+int run_peer(int devices, int interfaces, int domain) {
+  prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the benchmark
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);  // before the runtime starts threads
+  std::vector<std::unique_ptr<Completer>> completers;
+  std::vector<std::unique_ptr<mtc::dds::Equipment>> all;
+  for (int d = 0; d < devices; ++d) {
+    completers.push_back(std::make_unique<Completer>());
+    auto e = std::make_unique<mtc::dds::Equipment>(equipment_options(device("resp", d), domain),
+                                                   quiet_callbacks());
+    add_pairing(*e, device("req", d), interfaces);
+    for (int k = 0; k < interfaces; ++k) {
+      e->add_responder(interface_id(k), mtc::core::Service::MaterialLoad,
+                       completers.back()->callbacks());
+    }
+    e->start();
+    completers.back()->started();
+    all.push_back(std::move(e));
+  }
+  int sig = 0;
+  sigwait(&set, &sig);
+  return 0;
+}
+
+pid_t spawn_peer(int devices, int interfaces, int domain) {
+  const std::string d = std::to_string(devices);
+  const std::string i = std::to_string(interfaces);
+  const std::string dom = std::to_string(domain);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    throw std::runtime_error("fork failed");
+  }
+  if (pid == 0) {
+    execl("/proc/self/exe", "mtc-bench-scale", "--peer", "--devices", d.c_str(), "--interfaces",
+          i.c_str(), "--domain", dom.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+void stop_peer(pid_t pid) {
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+}
+
+long rss_kb(pid_t pid) {
+  std::ifstream status(pid == 0 ? std::string("/proc/self/status")
+                                : "/proc/" + std::to_string(pid) + "/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmRSS:") {
+      long kb = 0;
+      status >> kb;
+      return kb;
+    }
+    status.ignore(4096, '\n');
+  }
+  return -1;
+}
+
+bool wait_all_ready(const std::vector<mtc::dds::Requester*>& requesters,
+                    std::chrono::steady_clock::duration timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    bool all = true;
+    for (const auto* r : requesters) {
+      all = all && r->counterpart_state() == mtc::core::InteractionState::Ready;
+    }
+    if (all) {
+      return true;
+    }
+    if (std::chrono::steady_clock::now() > deadline) {
+      return false;
+    }
+    // Discovery and pairing: outside every timed section but start-up's,
+    // whose resolution this sets (1 ms against hundreds).
+    std::this_thread::sleep_for(1ms);
+  }
+}
+
+}  // namespace mtc::bench::scale

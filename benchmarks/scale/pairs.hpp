@@ -1,0 +1,44 @@
+// Both ends of mtc-bench-scale's interface pairs: the devices' names, their
+// equipment options and interfaces, and the responder process (this binary
+// run again with --peer) that completes every request at once.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "mtc/dds/equipment.hpp"
+
+namespace mtc::bench::scale {
+
+// "scale-<role>-<index>": requester devices are "req", responders "resp".
+std::string device(const char* role, int index);
+// "if<index>": interface k of a requester pairs with interface k of its responder.
+std::string interface_id(int index);
+
+// On `domain`, loopback only, recovering from every FAIL (a false alarm must
+// not stall a pair).
+mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain);
+// Quiet about the filtered false-loss notes, loud about anything else.
+mtc::dds::EquipmentCallbacks quiet_callbacks();
+// `interfaces` material-handler interfaces, each paired with the same id on `peer_device`.
+void add_pairing(mtc::dds::Equipment& e, const std::string& peer_device, int interfaces);
+
+// The responder process: `devices` responder devices with `interfaces`
+// interfaces each, completing every request; runs until SIGTERM (or until
+// its parent dies).
+int run_peer(int devices, int interfaces, int domain);
+// Starts run_peer in a child (fork + exec of this binary with --peer).
+pid_t spawn_peer(int devices, int interfaces, int domain);
+void stop_peer(pid_t pid);
+
+// Resident set of `pid` (0: this process) in KiB; -1 when unreadable.
+long rss_kb(pid_t pid);
+
+// True once every requester sees its responder READY, within `timeout`.
+bool wait_all_ready(const std::vector<mtc::dds::Requester*>& requesters,
+                    std::chrono::steady_clock::duration timeout);
+
+}  // namespace mtc::bench::scale
