@@ -114,6 +114,7 @@ TEST(Executor, ManyThreadsNeverStepAtOnce) {
   ex.set_inline_steps(true);
   start_without_timers(ex);
   std::vector<std::thread> threads;
+  threads.reserve(kThreads);
   for (int t = 0; t < kThreads; ++t) {
     threads.emplace_back([&] {
       for (int i = 0; i < kEach; ++i) {

@@ -62,6 +62,7 @@ TEST(InlineSteps, EveryServiceCompletesAndCallbacksNeverOverlap) {
   wait.wait_for_ready = 10s;
   for (int round = 0; round < 3; ++round) {
     std::vector<std::future<RequestResult>> results;
+    results.reserve(requesters.size());
     for (auto* r : requesters) results.push_back(r->request(wait));  // all at once
     for (std::size_t i = 0; i < results.size(); ++i) {
       SCOPED_TRACE(std::string(core::to_string(core::kAllServices[i])));
