@@ -251,6 +251,7 @@ struct EquipmentImpl {
   // Heartbeat thread: one heartbeat of group `index`.
   void write_heartbeat(std::size_t index);
   void start_heartbeats();
+  detail::TapSink tap_sink(std::size_t group);
   void dispose_all() noexcept;
   bool await_disposals() noexcept;  // bounded: see equipment_publish.cpp
 

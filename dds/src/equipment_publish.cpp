@@ -185,23 +185,27 @@ void EquipmentImpl::create_entities() {
   // Pairing callbacks run on the executor like every other callback.
   executor.post([this] { bind_configured(); });
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    groups[g]->tap = std::make_unique<detail::DomainTap>(
-        *participant, *topics, tap_config(*this, g), [this, g](detail::TapEvent&& event) {
-          // Only values may be stepped on the middleware's thread: statuses
-          // (matched, liveliness, deadline) come from threads that hold
-          // Fast DDS's discovery and timer locks, which a write must not
-          // wait for.
-          const bool value = std::holds_alternative<detail::ValueEvent>(event);
-          auto task = [this, g, ev = std::move(event)]() mutable { on_event(g, ev); };
-          if (value) {
-            executor.dispatch(std::move(task));
-          } else {
-            executor.post(std::move(task));
-          }
-        });
+    groups[g]->tap = std::make_unique<detail::DomainTap>(*participant, *topics,
+                                                         tap_config(*this, g), tap_sink(g));
   }
   // Posted: the executor reads the taps from then on.
   executor.post([this] { reannounce.arm(SteadyClock::now(), options.timing.participant_lease); });
+}
+
+// A group's DDS events, handed to the executor. Only values may be stepped
+// at once on the middleware's thread (inline steps): statuses (matched,
+// liveliness, deadline) come from threads that hold Fast DDS's discovery and
+// timer locks, which a write must not wait for.
+detail::TapSink EquipmentImpl::tap_sink(std::size_t g) {
+  return [this, g](detail::TapEvent&& event) {
+    const bool value = std::holds_alternative<detail::ValueEvent>(event);
+    auto task = [this, g, ev = std::move(event)]() mutable { on_event(g, ev); };
+    if (value) {
+      executor.dispatch(std::move(task));
+    } else {
+      executor.post(std::move(task));
+    }
+  };
 }
 
 // One heartbeat thread for every group; a group's heartbeat is withheld once
