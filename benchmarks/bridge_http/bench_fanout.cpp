@@ -22,7 +22,6 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
-#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <string>
@@ -31,7 +30,9 @@
 
 #include "demo_cell.hpp"
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/proc_cpu.hpp"
 
+using mtc::bench::rss_kb;
 using mtc::bridge::bench::DemoCell;
 using mtc::bridge::bench::LatencySummary;
 using mtc::bridge::bench::print_summary;
@@ -52,20 +53,6 @@ constexpr const char* kAbout =
     "(cpu_us_per_part: CPU time of the whole process, server and clients, per part\n"
     "delivered while timed: what the machine's other load does not inflate).\n"
     "(bar: p99 over all clients < 10 ms, none lost, no RSS growth while streaming).";
-
-long rss_kb() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmRSS:") {
-      long kb = 0;
-      status >> kb;
-      return kb;
-    }
-    status.ignore(4096, '\n');
-  }
-  return -1;
-}
 
 int connect_stream(std::uint16_t port, const std::string& source) {
   const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);

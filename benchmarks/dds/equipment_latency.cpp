@@ -29,9 +29,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "mtc/bench/proc_cpu.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
-#include "proc_cpu.hpp"
 
 namespace mtc::bench {
 namespace {

@@ -18,11 +18,11 @@
 #include <stdexcept>
 #include <thread>
 
+#include "mtc/bench/proc_cpu.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
-#include "proc_cpu.hpp"
 
 namespace mtc::bench {
 namespace {

@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "proc_cpu.hpp"
+#include "mtc/bench/proc_cpu.hpp"
 
 namespace mtc::bench {
 namespace {

@@ -5,7 +5,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -141,21 +140,6 @@ pid_t spawn_peer(int devices, int interfaces, int domain) {
 void stop_peer(pid_t pid) {
   kill(pid, SIGTERM);
   waitpid(pid, nullptr, 0);
-}
-
-long rss_kb(pid_t pid) {
-  std::ifstream status(pid == 0 ? std::string("/proc/self/status")
-                                : "/proc/" + std::to_string(pid) + "/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmRSS:") {
-      long kb = 0;
-      status >> kb;
-      return kb;
-    }
-    status.ignore(4096, '\n');
-  }
-  return -1;
 }
 
 bool wait_all_ready(const std::vector<mtc::dds::Requester*>& requesters,

@@ -34,9 +34,6 @@ int run_peer(int devices, int interfaces, int domain);
 pid_t spawn_peer(int devices, int interfaces, int domain);
 void stop_peer(pid_t pid);
 
-// Resident set of `pid` (0: this process) in KiB; -1 when unreadable.
-long rss_kb(pid_t pid);
-
 // True once every requester sees its responder READY, within `timeout`.
 bool wait_all_ready(const std::vector<mtc::dds::Requester*>& requesters,
                     std::chrono::steady_clock::duration timeout);

@@ -38,9 +38,9 @@
 #include <vector>
 
 #include "../dds/latency_stats.hpp"
-#include "../dds/proc_cpu.hpp"
 #include "load.hpp"
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/proc_cpu.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "pairs.hpp"
 

@@ -1,6 +1,6 @@
-// CPU time of a process and the machine's load, for the benchmark's JSON:
-// a latency figure is only comparable with the CPU it cost and with how busy
-// the (shared) machine was while it was taken.
+// CPU time and resident memory of a process and the machine's load, for the
+// benchmarks' JSON: a latency figure is only comparable with the CPU it cost
+// and with how busy the (shared) machine was while it was taken.
 #pragma once
 
 #include <dirent.h>
@@ -91,6 +91,23 @@ inline std::array<double, 3> load_average() {
 inline double cpu_seconds_both(pid_t peer) {
   const double own = cpu_seconds(0);
   return peer == 0 ? own : own + cpu_seconds(peer);
+}
+
+// Resident set size of `pid` (0: this process) in KiB, from the VmRSS line
+// of /proc/<pid>/status; -1 when unreadable (the process is gone, say).
+inline long rss_kb(pid_t pid = 0) {
+  std::ifstream status(pid == 0 ? std::string("/proc/self/status")
+                                : "/proc/" + std::to_string(pid) + "/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmRSS:") {
+      long kb = -1;
+      status >> kb;
+      return kb;
+    }
+    status.ignore(4096, '\n');
+  }
+  return -1;
 }
 
 }  // namespace mtc::bench
