@@ -16,9 +16,6 @@
 // or in a forked peer process over SHM+UDP or UDP only.
 #include "equipment_latency.hpp"
 
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,6 +26,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "mtc/bench/peer_process.hpp"
 #include "mtc/bench/proc_cpu.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
@@ -269,8 +267,7 @@ pid_t spawn_peer(int domain, qos::Transport t, int round) {
 }
 
 void stop_peer(pid_t pid) {
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
+  stop_child(pid, std::chrono::seconds(10));
 }
 
 PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, int round) {
@@ -327,16 +324,10 @@ std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options) {
 }
 
 int run_equipment_peer(int domain, bool udp_only, int round) {
-  prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the benchmark
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGTERM);
-  sigaddset(&set, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &set, nullptr);  // before the runtime starts threads
+  const sigset_t stop_signals = block_stop_signals();  // before the runtime starts threads
   auto responder = make_responder(
       domain, udp_only ? qos::Transport::LoopbackUdp : qos::Transport::Loopback, round);
-  int sig = 0;
-  sigwait(&set, &sig);
+  wait_for_stop_signal(stop_signals);
   return 0;
 }
 

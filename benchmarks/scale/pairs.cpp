@@ -1,8 +1,5 @@
 #include "pairs.hpp"
 
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <iostream>
@@ -10,6 +7,8 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+
+#include "mtc/bench/peer_process.hpp"
 
 namespace mtc::bench::scale {
 namespace {
@@ -95,12 +94,7 @@ void add_pairing(mtc::dds::Equipment& e, const std::string& peer_device, int int
 }
 
 int run_peer(int devices, int interfaces, int domain) {
-  prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlive the benchmark
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGTERM);
-  sigaddset(&set, SIGINT);
-  pthread_sigmask(SIG_BLOCK, &set, nullptr);  // before the runtime starts threads
+  const sigset_t stop_signals = block_stop_signals();  // before the runtime starts threads
   std::vector<std::unique_ptr<Completer>> completers;
   std::vector<std::unique_ptr<mtc::dds::Equipment>> all;
   for (int d = 0; d < devices; ++d) {
@@ -116,8 +110,7 @@ int run_peer(int devices, int interfaces, int domain) {
     completers.back()->started();
     all.push_back(std::move(e));
   }
-  int sig = 0;
-  sigwait(&set, &sig);
+  wait_for_stop_signal(stop_signals);
   return 0;
 }
 
@@ -138,8 +131,7 @@ pid_t spawn_peer(int devices, int interfaces, int domain) {
 }
 
 void stop_peer(pid_t pid) {
-  kill(pid, SIGTERM);
-  waitpid(pid, nullptr, 0);
+  stop_child(pid, std::chrono::seconds(10));
 }
 
 bool wait_all_ready(const std::vector<mtc::dds::Requester*>& requesters,

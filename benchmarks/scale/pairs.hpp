@@ -32,6 +32,7 @@ void add_pairing(mtc::dds::Equipment& e, const std::string& peer_device, int int
 int run_peer(int devices, int interfaces, int domain);
 // Starts run_peer in a child (fork + exec of this binary with --peer).
 pid_t spawn_peer(int devices, int interfaces, int domain);
+// SIGTERM, SIGKILL if it has not ended 10 s on, and reaped.
 void stop_peer(pid_t pid);
 
 // True once every requester sees its responder READY, within `timeout`.
