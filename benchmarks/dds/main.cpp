@@ -5,16 +5,9 @@
 // Domain ids 100-106 and, for Cyclone's ddsperf, 115 (benchmarks and the
 // cell own 100-119; the cell runs on 110, its tests on 111-113).
 // Must run inside the loopback-only namespace: benchmarks/run.sh does that.
-#include <fcntl.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <csignal>
-#include <cstdio>
-#include <cstdlib>
+#include <chrono>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -27,22 +20,15 @@
 #include "equipment_latency.hpp"
 #include "mtc/bench/cli.hpp"
 #include "mtc/bench/proc_cpu.hpp"
-#include "mtc/qos/participant.hpp"
 #include "ratios.hpp"
 #include "raw_pingpong.hpp"
+#include "raw_series.hpp"
 #include "udp_pingpong.hpp"
 
 namespace {
 
-using mtc::bench::PingPongOptions;
 using mtc::bench::Series;
 using mtc::bench::Transport;
-
-std::atomic<bool> g_peer_stop{false};
-
-extern "C" void on_peer_signal(int) {
-  g_peer_stop.store(true);
-}
 
 struct Options {
   int samples = 2000;
@@ -64,6 +50,8 @@ struct Options {
   bool both_ends = false;       // internal: a one-process raw series, printed
   int udp_peer_fd = -1;         // internal: be the UDP echo on this socket
   int round = 1;                // internal: the equipment peer's round
+  int reply_timeout_ms = 1000;  // internal: a raw round trip's timeout
+  int peer_quits_after = 0;     // internal (tests): the raw pongers' echo limit
   Transport transport = Transport::UdpLoopback;
   int domain = 100;
 };
@@ -113,6 +101,11 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .flag("--both-ends", o.both_ends, "run a one-process raw series and print it")
       .integer("--udp-peer-fd", o.udp_peer_fd, 0, 65535, "be the UDP echo on this socket")
       .integer("--round", o.round, 1, 1000, "the equipment peer's round (its device names)")
+      .integer("--reply-timeout-ms", o.reply_timeout_ms, 1, 60000,
+               "a raw round trip with no echo this long is a\ntimeout")
+      .integer("--peer-quits-after", o.peer_quits_after, 0, 10000000,
+               "the raw pongers stop after this many echoes,\na forked one killing itself "
+               "(tests)")
       .choice("--transport", transport, {"udp_loopback", "shm_udp", "udp", "shm"},
               "the peer's transport")
       .integer("--domain", o.domain, 0, 232, "the peer's DDS domain");
@@ -129,170 +122,17 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   return std::nullopt;
 }
 
-int run_peer(const Options& o) {
-  // The peer must not outlive the benchmark, whatever happens to it.
-  prctl(PR_SET_PDEATHSIG, SIGTERM);
-  std::signal(SIGTERM, on_peer_signal);
-  std::signal(SIGINT, on_peer_signal);
-  PingPongOptions po;
-  po.domain_id = o.domain;
-  po.transport = o.transport;
-  po.listener = o.listener;
-  try {
-    mtc::bench::run_ponger(po, g_peer_stop);
-  } catch (const std::exception& e) {
-    std::cerr << "ponger peer: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
-}
-
-// Starts this executable again as the ponger peer (fork + exec: a forked copy
-// of a process that already runs Fast DDS threads would be unsafe).
-pid_t spawn_peer(Transport t, int domain, bool listener) {
-  const std::string transport = mtc::bench::to_string(t);
-  const std::string dom = std::to_string(domain);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    throw std::runtime_error("fork failed");
-  }
-  if (pid == 0) {
-    execl("/proc/self/exe", "mtc-bench-dds-latency", "--peer", "--transport", transport.c_str(),
-          "--domain", dom.c_str(), listener ? "--listener" : static_cast<char*>(nullptr),
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
-// Both ends of a raw series in one process: the ponger on a thread, the
-// pinger here. Raw endpoints of one process talk intra-process, as Fast DDS
-// does by default: this switches the process-wide setting on, which is why
-// the benchmark runs it in a child of its own (--both-ends) and never next
-// to the mtc series (the runtime switches it off for its participants).
-Series run_both_ends_here(const PingPongOptions& po) {
-  mtc::qos::set_intraprocess_delivery(true);
-  std::atomic<bool> stop{false};
-  std::thread ponger([&] {
-    try {
-      mtc::bench::run_ponger(po, stop);
-    } catch (const std::exception& e) {
-      std::cerr << "ponger: " << e.what() << "\n";
-    }
-  });
-  Series s;
-  try {
-    s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
-  } catch (...) {
-    stop.store(true);
-    ponger.join();
-    throw;
-  }
-  stop.store(true);
-  ponger.join();
-  return s;
-}
-
-// --both-ends: the series above, printed for the parent: "timeouts cpu"
-// on the first line, then one sample (us) per line.
-int print_both_ends(const Options& o) {
-  prctl(PR_SET_PDEATHSIG, SIGTERM);
-  PingPongOptions po;
-  po.domain_id = o.domain;
-  po.transport = o.transport;
-  po.samples = o.samples;
-  po.warmup = o.warmup;
-  const Series s = run_both_ends_here(po);
-  std::cout << s.timeouts << " " << s.cpu_us_per_op << "\n";
-  for (double v : s.samples_us) {
-    std::cout << v << "\n";
-  }
-  return std::cout.good() ? 0 : 1;
-}
-
-Series run_both_ends_in_child(const Options& o, Transport t, int domain) {
-  const std::vector<std::string> args = {"mtc-bench-dds-latency",
-                                         "--both-ends",
-                                         "--transport",
-                                         mtc::bench::to_string(t),
-                                         "--domain",
-                                         std::to_string(domain),
-                                         "--samples",
-                                         std::to_string(o.samples),
-                                         "--warmup",
-                                         std::to_string(o.warmup)};
-  std::vector<char*> argv;
-  argv.reserve(args.size() + 1);
-  for (const auto& a : args) {
-    argv.push_back(const_cast<char*>(a.c_str()));
-  }
-  argv.push_back(nullptr);
-  int fds[2];
-  if (pipe2(fds, O_CLOEXEC) != 0) {
-    throw std::runtime_error("pipe failed");
-  }
-  const pid_t pid = fork();
-  if (pid < 0) {
-    throw std::runtime_error("fork failed");
-  }
-  if (pid == 0) {
-    dup2(fds[1], STDOUT_FILENO);
-    execv("/proc/self/exe", argv.data());
-    _exit(127);
-  }
-  close(fds[1]);
-  std::string text;
-  char buffer[4096];
-  for (ssize_t n = 0; (n = read(fds[0], buffer, sizeof buffer)) > 0;) {
-    text.append(buffer, static_cast<std::size_t>(n));
-  }
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw std::runtime_error("one-process raw series failed (status " + std::to_string(status) +
-                             ")");
-  }
-  std::istringstream in(text);
-  Series s;
-  in >> s.timeouts >> s.cpu_us_per_op;
-  for (double v = 0; in >> v;) {
-    s.samples_us.push_back(v);
-  }
-  return s;
+mtc::bench::RawSeriesOptions raw_options(const Options& o) {
+  mtc::bench::RawSeriesOptions r;
+  r.samples = o.samples;
+  r.warmup = o.warmup;
+  r.reply_timeout = std::chrono::milliseconds(o.reply_timeout_ms);
+  r.peer_quits_after = o.peer_quits_after;
+  return r;
 }
 
 Series run_raw(const Options& o, Transport t, int processes, int domain, bool listener = false) {
-  PingPongOptions po;
-  po.domain_id = domain;
-  po.transport = t;
-  po.samples = o.samples;
-  po.warmup = o.warmup;
-  po.listener = listener;
-  std::cerr << "raw fast dds round trip" << (listener ? " (listener echo): " : ": ")
-            << mtc::bench::to_string(t) << ", " << processes << " process(es), " << o.samples
-            << " samples\n";
-  Series s;
-  if (processes == 1) {
-    s = run_both_ends_in_child(o, t, domain);
-  } else {
-    const pid_t peer = spawn_peer(t, domain, listener);
-    po.peer = peer;
-    try {
-      s = mtc::bench::run_pinger(po, std::chrono::seconds(10));
-    } catch (...) {
-      kill(peer, SIGTERM);
-      waitpid(peer, nullptr, 0);
-      throw;
-    }
-    kill(peer, SIGTERM);
-    int status = 0;
-    waitpid(peer, &status, 0);
-  }
-  s.processes = processes;
-  s.name = std::string(listener ? "raw_fastdds_listener_round_trip_" : "raw_fastdds_round_trip_") +
-           mtc::bench::to_string(t) + "_" + std::to_string(processes) + "proc";
-  return s;
+  return mtc::bench::run_raw_series(raw_options(o), t, processes, domain, listener);
 }
 
 std::string load_json(const std::array<double, 3>& load) {
@@ -442,7 +282,7 @@ int main(int argc, char** argv) {
   mtc::bench::set_inline_steps(o.inline_steps);
   try {
     if (o.both_ends) {
-      return print_both_ends(o);
+      return mtc::bench::print_both_ends(raw_options(o), o.transport, o.domain);
     }
     if (o.udp_peer_fd >= 0) {
       return mtc::bench::run_udp_echo(o.udp_peer_fd);
@@ -451,7 +291,8 @@ int main(int argc, char** argv) {
       return mtc::bench::run_equipment_peer(o.domain, o.transport == Transport::UdpLoopback,
                                             o.round);
     }
-    return o.peer ? run_peer(o) : run(o);
+    return o.peer ? mtc::bench::run_raw_peer(raw_options(o), o.transport, o.domain, o.listener)
+                  : run(o);
   } catch (const std::exception& e) {
     std::cerr << "mtc-bench-dds-latency: " << e.what() << "\n";
     return 1;

@@ -1,5 +1,6 @@
 #include "raw_pingpong.hpp"
 
+#include <algorithm>
 #include <condition_variable>
 #include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -13,6 +14,8 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <functional>
+#include <iostream>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -183,29 +186,68 @@ void wait_matched(const Endpoint& ep, std::chrono::milliseconds timeout) {
   }
 }
 
+// The ponger's echo budget (PingPongOptions::echo_limit), shared by the
+// receive thread that echoes and the thread that waits for the end.
+class EchoBudget {
+ public:
+  explicit EchoBudget(const PingPongOptions& options)
+      : limit_(options.echo_limit), on_limit_(options.on_echo_limit) {}
+
+  // Before each echo: false once `limit_` echoes were sent (on_limit_ runs
+  // on the first refusal).
+  bool take() {
+    if (limit_ == 0) {
+      return true;
+    }
+    const int count = used_.fetch_add(1) + 1;
+    if (count <= limit_) {
+      return true;
+    }
+    if (count == limit_ + 1 && on_limit_) {
+      on_limit_();
+    }
+    return false;
+  }
+
+  bool spent() const { return limit_ > 0 && used_.load() > limit_; }
+
+ private:
+  const int limit_;
+  const std::function<void()> on_limit_;
+  std::atomic<int> used_{0};
+};
+
 // The ponger's echo, written on the receive thread that delivered the ping.
 class EchoListener : public fdds::DataReaderListener {
  public:
+  explicit EchoListener(EchoBudget& budget) : budget_(budget) {}
+
   void attach(Endpoint* endpoint) { endpoint_ = endpoint; }
 
   void on_data_available(fdds::DataReader* reader) override {
     mtc::idl::InteractionSample sample;
     while (Endpoint::take_from(reader, sample)) {
+      if (!budget_.take()) {
+        return;
+      }
       sample.device_uuid("bench-pong");
       endpoint_->write(sample);
     }
   }
 
  private:
+  EchoBudget& budget_;
   Endpoint* endpoint_ = nullptr;
 };
 
 // The pinger's side of the listener ping-pong: each echo is timed and the
 // next ping written on the receive thread; the benchmark thread only waits
-// for the end (or for a stall, when it sends the next ping itself).
+// for the end, or for a stall: then it sends the next ping itself, or ends
+// the series after give_up_after stalls in a row.
 class PingListener : public fdds::DataReaderListener {
  public:
-  PingListener(int warmup, int samples) : warmup_(warmup), total_(warmup + samples) {
+  PingListener(int warmup, int samples, int give_up_after)
+      : warmup_(warmup), total_(warmup + samples), give_up_after_(give_up_after) {
     ping_ = make_sample("bench-ping");
   }
 
@@ -216,9 +258,10 @@ class PingListener : public fdds::DataReaderListener {
     while (Endpoint::take_from(reader, echo)) {
       const auto now = std::chrono::steady_clock::now();
       std::lock_guard<std::mutex> lock(mutex_);
-      if (echo.sequence_number() != ping_.sequence_number()) {
+      if (given_up_ || echo.sequence_number() != ping_.sequence_number()) {
         continue;  // the echo of a ping already given up on
       }
+      stalls_in_a_row_ = 0;
       if (sent_ > warmup_) {
         samples_us_.push_back(to_us(now - sent_at_));
       }
@@ -226,17 +269,25 @@ class PingListener : public fdds::DataReaderListener {
     }
   }
 
-  // Runs the whole series; returns the samples and the count of pings that
-  // got no echo within `reply_timeout`.
-  std::vector<double> run(std::chrono::milliseconds reply_timeout, std::size_t& timeouts) {
+  // Runs the whole series; returns the samples and counts the timed pings
+  // that got no echo within `reply_timeout` in `timeouts`, and those not
+  // sent at all (the series given up) in `not_run`.
+  std::vector<double> run(std::chrono::milliseconds reply_timeout, std::size_t& timeouts,
+                          int& not_run) {
     std::unique_lock<std::mutex> lock(mutex_);
     send_next_locked();
     while (sent_ <= total_) {
       const int before = sent_;
-      if (!done_.wait_for(lock, reply_timeout, [&] { return sent_ != before; })) {
-        ++timeouts;  // lost or late: go on with the next ping
-        send_next_locked();
+      if (done_.wait_for(lock, reply_timeout, [&] { return sent_ != before; })) {
+        continue;
       }
+      timeouts += sent_ > warmup_ ? 1 : 0;  // lost or late
+      if (++stalls_in_a_row_ >= give_up_after_) {
+        given_up_ = true;
+        not_run = total_ - std::max(sent_, warmup_);
+        break;
+      }
+      send_next_locked();  // go on with the next ping
     }
     return std::move(samples_us_);
   }
@@ -257,14 +308,29 @@ class PingListener : public fdds::DataReaderListener {
 
   const int warmup_;
   const int total_;
+  const int give_up_after_;
   Endpoint* endpoint_ = nullptr;
   std::mutex mutex_;
   std::condition_variable done_;
   mtc::idl::InteractionSample ping_;
   int sent_ = 0;
+  int stalls_in_a_row_ = 0;
+  bool given_up_ = false;
   std::chrono::steady_clock::time_point sent_at_;
   std::vector<double> samples_us_;
 };
+
+// Ends a series whose ponger stopped answering: says so on stderr and counts
+// the `not_run` timed round trips as timeouts, as the equipment series do
+// (count + timeouts stays the number of round trips asked for).
+void give_up(Series& series, const PingPongOptions& options, int not_run) {
+  std::cerr << "raw round trip (" << series.layer << ", " << series.transport
+            << "): " << options.give_up_after << " round trips in a row got no echo in "
+            << options.reply_timeout.count() << " ms; " << not_run
+            << " timed round trips of this series not run\n";
+  series.timeouts += static_cast<std::size_t>(not_run);
+  series.cpu_us_per_op = -1;  // per round trip of a series cut short: meaningless
+}
 
 Series make_series(const PingPongOptions& options) {
   Series series;
@@ -272,6 +338,83 @@ Series make_series(const PingPongOptions& options) {
   series.metric = "round_trip";
   series.transport = to_string(options.transport);
   series.samples_us.reserve(static_cast<std::size_t>(options.samples));
+  return series;
+}
+
+// The listener ping-pong's pinger: pings and timing on the receive thread.
+Series run_listener_pinger(const PingPongOptions& options,
+                           std::chrono::milliseconds match_timeout) {
+  Series series = make_series(options);
+  PingListener pinger(options.warmup, options.samples, options.give_up_after);
+  Endpoint ep(options, "mtc_bench_pinger", kPingTopic, kPongTopic, &pinger);
+  pinger.attach(&ep);
+  wait_matched(ep, match_timeout);
+  // The warm-up's CPU is counted too: it is a small share of the run and
+  // the receive thread gives no cheaper point to start the count.
+  const double cpu0 = cpu_seconds_both(options.peer);
+  int not_run = 0;
+  series.samples_us = pinger.run(options.reply_timeout, series.timeouts, not_run);
+  const double cpu1 = cpu_seconds_both(options.peer);
+  series.cpu_us_per_op = (cpu1 - cpu0) * 1e6 / (options.warmup + options.samples);
+  if (not_run > 0) {
+    give_up(series, options, not_run);
+  }
+  return series;
+}
+
+// Writes `ping` and waits (WaitSet, never longer than the reply timeout in
+// all) for its echo; true when it came.
+bool round_trip(Endpoint& ep, mtc::idl::InteractionSample& ping,
+                std::chrono::milliseconds reply_timeout) {
+  const auto seq = ping.sequence_number();
+  mtc::idl::InteractionSample echo;
+  ep.write(ping);
+  const auto deadline = std::chrono::steady_clock::now() + reply_timeout;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0 || !ep.wait_data(left)) {
+      return false;
+    }
+    bool answered = false;
+    while (ep.take(echo)) {
+      answered = answered || echo.sequence_number() == seq;
+    }
+    if (answered) {
+      return true;
+    }
+  }
+}
+
+// The WaitSet ping-pong's pinger: this thread writes, waits and times.
+Series run_waitset_pinger(const PingPongOptions& options, std::chrono::milliseconds match_timeout) {
+  Series series = make_series(options);
+  Endpoint ep(options, "mtc_bench_pinger", kPingTopic, kPongTopic);
+  wait_matched(ep, match_timeout);
+  double cpu0 = 0;
+  mtc::idl::InteractionSample ping = make_sample("bench-ping");
+  const int total = options.warmup + options.samples;
+  int timeouts_in_a_row = 0;
+  for (int i = 0; i < total; ++i) {
+    ping.sequence_number(static_cast<unsigned long long>(i) + 1);
+    if (i == options.warmup) {
+      cpu0 = cpu_seconds_both(options.peer);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool answered = round_trip(ep, ping, options.reply_timeout);
+    const auto t1 = std::chrono::steady_clock::now();
+    timeouts_in_a_row = answered ? 0 : timeouts_in_a_row + 1;
+    if (i >= options.warmup && answered) {
+      series.samples_us.push_back(to_us(t1 - t0));
+    } else if (i >= options.warmup) {
+      ++series.timeouts;
+    }
+    if (timeouts_in_a_row >= options.give_up_after) {
+      give_up(series, options, total - std::max(i + 1, options.warmup));
+      return series;
+    }
+  }
+  series.cpu_us_per_op = (cpu_seconds_both(options.peer) - cpu0) * 1e6 / options.samples;
   return series;
 }
 
@@ -293,22 +436,23 @@ bool parse_transport(const std::string& text, Transport& out) {
 }
 
 void run_ponger(const PingPongOptions& options, const std::atomic<bool>& stop) {
+  EchoBudget budget(options);
   if (options.listener) {
-    EchoListener echo;
+    EchoListener echo(budget);
     Endpoint ep(options, "mtc_bench_ponger", kPongTopic, kPingTopic, &echo);
     echo.attach(&ep);
-    while (!stop.load()) {
+    while (!stop.load() && !budget.spent()) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));  // the receive thread echoes
     }
     return;
   }
   Endpoint ep(options, "mtc_bench_ponger", kPongTopic, kPingTopic);
   mtc::idl::InteractionSample sample;
-  while (!stop.load()) {
+  while (!stop.load() && !budget.spent()) {
     if (!ep.wait_data(std::chrono::milliseconds(100))) {
       continue;
     }
-    while (ep.take(sample)) {
+    while (ep.take(sample) && budget.take()) {
       sample.device_uuid("bench-pong");
       ep.write(sample);
     }
@@ -316,56 +460,8 @@ void run_ponger(const PingPongOptions& options, const std::atomic<bool>& stop) {
 }
 
 Series run_pinger(const PingPongOptions& options, std::chrono::milliseconds match_timeout) {
-  Series series = make_series(options);
-  if (options.listener) {
-    PingListener pinger(options.warmup, options.samples);
-    Endpoint ep(options, "mtc_bench_pinger", kPingTopic, kPongTopic, &pinger);
-    pinger.attach(&ep);
-    wait_matched(ep, match_timeout);
-    // The warm-up's CPU is counted too: it is a small share of the run and
-    // the receive thread gives no cheaper point to start the count.
-    const double cpu0 = cpu_seconds_both(options.peer);
-    series.samples_us = pinger.run(options.reply_timeout, series.timeouts);
-    const double cpu1 = cpu_seconds_both(options.peer);
-    series.cpu_us_per_op = (cpu1 - cpu0) * 1e6 / (options.warmup + options.samples);
-    return series;
-  }
-  Endpoint ep(options, "mtc_bench_pinger", kPingTopic, kPongTopic);
-  wait_matched(ep, match_timeout);
-  double cpu0 = 0;
-  mtc::idl::InteractionSample ping = make_sample("bench-ping");
-  mtc::idl::InteractionSample echo;
-  const int total = options.warmup + options.samples;
-  for (int i = 0; i < total; ++i) {
-    const auto seq = static_cast<unsigned long long>(i) + 1;
-    ping.sequence_number(seq);
-    if (i == options.warmup) {
-      cpu0 = cpu_seconds_both(options.peer);
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    ep.write(ping);
-    bool answered = false;
-    const auto deadline = t0 + options.reply_timeout;
-    while (!answered && std::chrono::steady_clock::now() < deadline) {
-      if (!ep.wait_data(options.reply_timeout)) {
-        break;
-      }
-      while (ep.take(echo)) {
-        answered = answered || echo.sequence_number() == seq;
-      }
-    }
-    const auto t1 = std::chrono::steady_clock::now();
-    if (i < options.warmup) {
-      continue;
-    }
-    if (answered) {
-      series.samples_us.push_back(to_us(t1 - t0));
-    } else {
-      ++series.timeouts;
-    }
-  }
-  series.cpu_us_per_op = (cpu_seconds_both(options.peer) - cpu0) * 1e6 / options.samples;
-  return series;
+  return options.listener ? run_listener_pinger(options, match_timeout)
+                          : run_waitset_pinger(options, match_timeout);
 }
 
 }  // namespace mtc::bench

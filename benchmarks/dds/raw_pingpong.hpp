@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include "latency_stats.hpp"
@@ -28,21 +29,33 @@ struct PingPongOptions {
   Transport transport = Transport::UdpLoopback;
   int warmup = 200;
   int samples = 2000;
-  std::chrono::milliseconds reply_timeout{2000};
+  // A round trip with no echo within this counts as a timeout; after
+  // `give_up_after` in a row (warm-up included) the ponger is taken for gone
+  // and the series ends, its round trips not run counted as timeouts too: a
+  // dead peer must not hold the run for a reply timeout per round trip.
+  std::chrono::milliseconds reply_timeout{1000};
+  int give_up_after = 5;
   // true: every echo, and the pinger's next ping, is written from the
   // reader's listener on Fast DDS's receive thread (the fastest ping-pong
   // the library offers); false: an application thread waits on a WaitSet.
   bool listener = false;
   // The ponger's process, when it is another one: its CPU time is counted.
   pid_t peer = 0;
+  // Test hook (the benchmark's --peer-quits-after): the ponger stops after
+  // this many echoes (0: never) and calls on_echo_limit, or, without one,
+  // returns: a peer that dies or goes silent in the middle of a series.
+  int echo_limit = 0;
+  std::function<void()> on_echo_limit;
 };
 
-// Echoes every ping back on the pong topic until `stop` becomes true.
+// Echoes every ping back on the pong topic until `stop` becomes true (or
+// `echo_limit` echoes).
 // Runs in a thread (one-process mode) or as a forked peer process.
 void run_ponger(const PingPongOptions& options, const std::atomic<bool>& stop);
 
-// Sends pings one at a time and times each until its echo arrives. Waits up
-// to `match_timeout` for the ponger to be discovered; throws if it is not.
+// Sends pings one at a time and times each until its echo arrives (at most
+// reply_timeout; ends after give_up_after timeouts in a row). Waits up to
+// `match_timeout` for the ponger to be discovered; throws if it is not.
 Series run_pinger(const PingPongOptions& options, std::chrono::milliseconds match_timeout);
 
 }  // namespace mtc::bench
