@@ -4,8 +4,10 @@
 // callbacks still run one at a time.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <future>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -18,15 +20,41 @@ namespace {
 using core::InterfaceType;
 using core::Reason;
 
+// The thread of the robot's executor: where its configured pairing ran (a
+// task start() posts before any DDS event can reach the equipment, so it
+// runs on the executor thread with inline steps on or off).
+class ExecutorThread {
+ public:
+  EquipmentCallbacks wrap(EquipmentCallbacks cb) {
+    cb.on_link = [this, next = cb.on_link](const LinkEvent& e) {
+      if (e.previous == LinkState::Unpaired && e.current == LinkState::Paired) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (id_ == std::thread::id()) id_ = std::this_thread::get_id();
+      }
+      if (next) next(e);
+    };
+    return cb;
+  }
+  std::thread::id id() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return id_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::thread::id id_;
+};
+
 struct InlineCell {
   Recorder cnc_rec;
   Recorder robot_rec;
+  ExecutorThread robot_executor;
   Equipment cnc;
   Equipment robot;
 
   explicit InlineCell(int domain)
       : cnc(inline_options(domain, "cnc-1"), cnc_rec.callbacks()),
-        robot(inline_options(domain, "robot-1"), robot_rec.callbacks()) {
+        robot(inline_options(domain, "robot-1"), robot_executor.wrap(robot_rec.callbacks())) {
     cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-1", "mh1"}});
     robot.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"cnc-1", "mh1"}});
   }
@@ -39,10 +67,15 @@ struct InlineCell {
 };
 
 // Every service completes, and no two callbacks of one equipment ever run
-// at once although they may now come from several threads.
+// at once although they may now come from several threads. And they do:
+// requests from the counterpart are stepped on the middleware's thread, so
+// some on_request runs off the robot's executor thread (with inline steps
+// off, every one runs on it).
 TEST(InlineSteps, EveryServiceCompletesAndCallbacksNeverOverlap) {
   std::atomic<int> inside{0};  // before the cell: outlives its callbacks
   std::atomic<int> overlaps{0};
+  std::mutex threads_mutex;
+  std::vector<std::thread::id> request_threads;  // where each on_request ran
   InlineCell cell(161);
   std::vector<Requester*> requesters;
   for (auto service : core::kAllServices) {
@@ -50,6 +83,10 @@ TEST(InlineSteps, EveryServiceCompletesAndCallbacksNeverOverlap) {
     ResponderCallbacks cb;
     cb.on_request = [&](Responder& r) {
       if (inside.fetch_add(1) != 0) overlaps.fetch_add(1);
+      {
+        std::lock_guard<std::mutex> lock(threads_mutex);
+        request_threads.push_back(std::this_thread::get_id());
+      }
       std::this_thread::yield();
       r.complete();
       inside.fetch_sub(1);
@@ -74,6 +111,14 @@ TEST(InlineSteps, EveryServiceCompletesAndCallbacksNeverOverlap) {
     }
   }
   EXPECT_EQ(overlaps.load(), 0);
+  const auto executor = cell.robot_executor.id();
+  ASSERT_NE(executor, std::thread::id()) << "the robot's pairing was never seen";
+  std::lock_guard<std::mutex> lock(threads_mutex);
+  ASSERT_FALSE(request_threads.empty());
+  const auto off_executor = std::count_if(request_threads.begin(), request_threads.end(),
+                                          [&](std::thread::id t) { return t != executor; });
+  EXPECT_GT(off_executor, 0) << "all " << request_threads.size()
+                             << " on_request calls ran on the robot's executor thread";
 }
 
 // Scenario 2 (the responder fails while ACTIVE) and the manual recovery of
