@@ -95,6 +95,7 @@ if [ -x "$bin/mtc-bench-bridge-current" ] && [ -x "$root/benchmarks/bridge_http/
   if [ "$quick" = 1 ]; then
     export MTC_BENCH_SECONDS=1 MTC_BENCH_SAMPLES=100 MTC_BENCH_ABUSE_SECONDS=1
     export MTC_BENCH_FANOUT_CLIENTS=200 MTC_BENCH_FANOUT_FEEDS=10 MTC_BENCH_NO_ABUSE=1
+    export MTC_BENCH_REPLAY_HOURS=2  # just past the wrap of the 2^17 buffer
   fi
   if "$root/benchmarks/bridge_http/run.sh" "$build" >/dev/null; then
     cp "$bin/bridge_http.json" "$out/bridge_http.json"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the bridge HTTP benchmarks (mtc-bench-bridge-current, -stream, -abuse,
-# -fanout and, when built, -dds-stream) inside the loopback-only namespace; their JSON
+# -fanout, -replay and, when built, -dds-stream) inside the loopback-only namespace; their JSON
 # summaries, one line each, go to stdout and to <build>/benchmarks/bridge_http.json.
 #
 # Usage: benchmarks/bridge_http/run.sh [build-dir]
@@ -8,7 +8,8 @@
 # Environment: MTC_BENCH_SECONDS (wrk run, default 10), MTC_BENCH_SAMPLES
 # (streaming samples, default 2000; 1000 for -dds-stream), MTC_BENCH_ABUSE_SECONDS
 # (well-behaved requests per abuse, default 4), MTC_BENCH_NO_ABUSE=1 (skip the
-# abuse run), MTC_BENCH_FANOUT_CLIENTS / _FEEDS (default 1000 / 100).
+# abuse run), MTC_BENCH_FANOUT_CLIENTS / _FEEDS (default 1000 / 100),
+# MTC_BENCH_REPLAY_HOURS (hours of the cell's traffic replayed, default 4).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
@@ -21,7 +22,7 @@ build="${1:-${MTC_BUILD_DIR:-$root/build}}"
 bin="$build/benchmarks"
 out="$bin/bridge_http.json"
 for exe in mtc-bench-bridge-current mtc-bench-bridge-stream mtc-bench-bridge-abuse \
-  mtc-bench-bridge-fanout; do
+  mtc-bench-bridge-fanout mtc-bench-bridge-replay; do
   [ -x "$bin/$exe" ] || { echo "run.sh: $bin/$exe missing; build target ${exe//-/_}" >&2; exit 1; }
 done
 command -v wrk >/dev/null || { echo "run.sh: wrk not installed (apt-get install wrk)" >&2; exit 1; }
@@ -33,6 +34,7 @@ command -v wrk >/dev/null || { echo "run.sh: wrk not installed (apt-get install 
   fi
   "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-fanout" \
     --clients "${MTC_BENCH_FANOUT_CLIENTS:-1000}" --feeds "${MTC_BENCH_FANOUT_FEEDS:-100}"
+  "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-replay" --hours "${MTC_BENCH_REPLAY_HOURS:-4}"
   if [ -x "$bin/mtc-bench-bridge-dds-stream" ]; then
     fastdds shm clean >/dev/null 2>&1 || true
     "$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-dds-stream" --samples "${MTC_BENCH_SAMPLES:-1000}"
