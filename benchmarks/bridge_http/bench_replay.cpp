@@ -123,8 +123,8 @@ void print(const Replay& r, const Settings& s, std::size_t buffer_size) {
   }
   const long allowed = at_wrap < 0 ? 0 : std::max(1024L, at_wrap / 50);
   const bool wrapped = at_wrap >= 0;
-  const bool meets = wrapped && r.stream_lost == 0 && r.poll_errors == 0 &&
-                     max_after - at_wrap <= allowed;
+  const bool meets =
+      wrapped && r.stream_lost == 0 && r.poll_errors == 0 && max_after - at_wrap <= allowed;
   std::cout << "{\"benchmark\":\"bridge_replay\",\"changes\":" << r.changes
             << ",\"hours\":" << s.hours << ",\"per_hour\":" << s.per_hour
             << ",\"buffer_size\":" << buffer_size << ",\"seconds\":" << r.seconds
