@@ -350,8 +350,8 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
   // destructor, every instance; the announcement's own disposal may arrive
   // as a loss of its writer).
   if (how == Gone::Leaving) {
-    device_left(owner.device, "its heartbeat of group " + std::to_string(owner.group) +
-                                  " said it is leaving");
+    device_left(owner.device,
+                "its heartbeat of group " + std::to_string(owner.group) + " said it is leaving");
   } else if (how == Gone::Disposed) {
     device_left(owner.device,
                 (owner.item.empty() ? std::string("an instance") : owner.item) + " was disposed");

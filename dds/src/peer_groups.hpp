@@ -43,7 +43,9 @@ struct PeerGroupKey {
 // heartbeat of a group, written before its disposals, carries period 0. A
 // reader takes it as the disposal it precedes, which a reader of another
 // vendor may never get (Fast DDS 2.9 disposes by the key's MD5 hash alone).
-constexpr bool says_leaving(const ObservedHeartbeat& h) noexcept { return h.period_ms == 0; }
+constexpr bool says_leaving(const ObservedHeartbeat& h) noexcept {
+  return h.period_ms == 0;
+}
 
 struct PeerGroup {
   std::int64_t last_heartbeat_ns = 0;           // reception of the newest heartbeat (0: none yet)

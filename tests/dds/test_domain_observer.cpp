@@ -303,9 +303,8 @@ TEST(DomainObserver, TakesALeavingHeartbeatAsTheLeave) {
   dev.announce();
   dev.publish(mtc::idl::interaction_state::READY, 1);
   dev.beat(1);
-  ASSERT_TRUE(rec.wait([&] {
-    return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats > 0;
-  }));
+  ASSERT_TRUE(
+      rec.wait([&] { return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats > 0; }));
   dev.leave();
   ASSERT_TRUE(rec.wait([&] { return !rec.devices_lost.empty(); }, slow.lease() / 2));
   std::lock_guard<std::mutex> lock(rec.mutex);

@@ -46,7 +46,8 @@ struct DomainObserverCallbacks {
   // history short).
   std::function<void(const ObservedValue&)> on_value;
   // The heartbeats that vouch for these data items stopped (or their device
-  // disposed them, or left: its last heartbeat has period_ms 0): their values must now read UNAVAILABLE.
+  // disposed them, or left: its last heartbeat has period_ms 0): their
+  // values must now read UNAVAILABLE.
   std::function<void(const std::string& device_uuid, const std::vector<std::string>& data_item_ids)>
       on_items_lost;
   // The device's own heartbeat (group 0) stopped, or it left: device gone.
