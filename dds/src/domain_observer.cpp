@@ -159,8 +159,12 @@ struct DomainObserver::Impl {
     const auto& h = e.heartbeat;
     if (!wanted(h.device_uuid)) return;
     if (!owned_by_writer(h.device_uuid, e.writer, detail::Said::Heartbeat)) return;
-    auto& group = peer_groups.on_heartbeat(e.writer, h);
     heartbeat_instances[e.instance] = {h.device_uuid, h.group};
+    if (detail::says_leaving(h)) {
+      left(e);
+      return;
+    }
+    auto& group = peer_groups.on_heartbeat(e.writer, h);
     incarnation[h.device_uuid] = detail::participant_of(e.writer);
     const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
     silent_groups.erase(key);
@@ -170,6 +174,19 @@ struct DomainObserver::Impl {
     }
     if (peer_groups.in_step(group)) recovered(key);
     if (callbacks.on_heartbeat) callbacks.on_heartbeat(h);
+  }
+
+  // A group's last heartbeat (period 0): the leave, as its heartbeat's
+  // disposal would tell it, for the incarnation that wrote it. Not kept as
+  // the group's newest (its period rules the silence checks), and marked
+  // silent so that no check tells it again; the disposals that follow find
+  // everything lost already.
+  void left(const detail::HeartbeatEvent& e) {
+    const auto& h = e.heartbeat;
+    const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
+    if (callbacks.on_heartbeat) callbacks.on_heartbeat(h);
+    silent_groups.insert(key);
+    group_lost(key);
   }
 
   void recovered(const detail::PeerGroupKey& key) {
@@ -282,8 +299,7 @@ struct DomainObserver::Impl {
     using std::chrono::milliseconds;
     const auto& h = group.newest;
     const auto lease = h.lease_ms != 0 ? milliseconds(h.lease_ms) : options.timing.lease();
-    const auto period = h.period_ms != 0 ? milliseconds(h.period_ms) : options.timing.heartbeat;
-    return {lease, period};
+    return {lease, group.period_or(options.timing.heartbeat)};
   }
 
   // A heartbeat writer's lease expired (checked against the silence rule

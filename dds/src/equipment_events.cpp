@@ -25,7 +25,7 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
         } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
           on_device(e);
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
-          on_gone(group, e.topic, e.instance, e.disposed);
+          on_gone(group, e.topic, e.instance, e.disposed ? Gone::Disposed : Gone::WithoutWriters);
         } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
           if (!e.alive && e.unmatched) {
             peer_checks.forget_writer(e.writer);
@@ -166,8 +166,14 @@ void EquipmentImpl::on_heartbeat(std::size_t group, detail::HeartbeatEvent& e) {
   const auto& h = e.heartbeat;
   if (h.device_uuid == options.device_uuid) return;
   if (!owned_by_writer(h.device_uuid, e.writer, detail::Said::Heartbeat)) return;
-  auto& pg = peer_groups.on_heartbeat(e.writer, h);
   instance_item[{TopicKind::Heartbeat, e.instance}] = {h.device_uuid, "", "", h.group};
+  // Its last heartbeat: the disposal that follows may never reach us. Not
+  // kept as the group's newest, whose period rules the silence checks.
+  if (detail::says_leaving(h)) {
+    on_gone(group, TopicKind::Heartbeat, e.instance, Gone::Leaving);
+    return;
+  }
+  auto& pg = peer_groups.on_heartbeat(e.writer, h);
   const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
   const auto& timing = groups[group]->timing;
   if (auto report = peer_groups.behind_report(key, h.reception_time_ns,
@@ -312,13 +318,17 @@ void EquipmentImpl::check_silence() {
   for (const auto& [g, key] : silent) owner_silent(g, key, false);  // see SilentOwners
 }
 
-// Disposal or loss of every writer of an instance: the counterpart said so
-// itself, so no silence check applies (DEADLINE misses go through
-// on_deadline_missed instead). A heartbeat instance stands for every
-// interface its group vouches for.
+// Disposal, a leaving heartbeat or loss of every writer of an instance: the
+// counterpart said so itself, so no silence check applies (DEADLINE misses
+// go through on_deadline_missed instead). A heartbeat instance stands for
+// every interface its group vouches for. The leave heard twice (heartbeat,
+// then disposals) is told once: link_lost and unpairing act on an Up or
+// paired interface only.
 void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Handle& instance,
-                            bool disposed) {
-  const char* cause = disposed ? "disposed" : "without writers";
+                            Gone how) {
+  const char* cause = how == Gone::Disposed  ? "disposed"
+                      : how == Gone::Leaving ? "leaving"
+                                             : "without writers";
   const auto it = instance_item.find({topic, instance});
   if (it == instance_item.end()) return;
   const auto owner = it->second;
@@ -336,9 +346,13 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
       link_lost(*itf, owner.item + ": " + cause);
     }
   }
-  // Only a graceful end disposes (Equipment's destructor, every instance;
-  // the announcement's own disposal may arrive as a loss of its writer).
-  if (disposed) {
+  // Only a graceful end disposes or says it is leaving (Equipment's
+  // destructor, every instance; the announcement's own disposal may arrive
+  // as a loss of its writer).
+  if (how == Gone::Leaving) {
+    device_left(owner.device,
+                "its heartbeat of group " + std::to_string(owner.group) + " said it is leaving");
+  } else if (how == Gone::Disposed) {
     device_left(owner.device,
                 (owner.item.empty() ? std::string("an instance") : owner.item) + " was disposed");
   }
@@ -409,7 +423,7 @@ void EquipmentImpl::owner_silent(std::size_t group, const detail::PeerGroupKey& 
     const auto& timing = groups[group]->timing;
     const auto& h = pg->newest;
     const auto lease = h.lease_ms != 0 ? milliseconds(h.lease_ms) : timing.lease();
-    const auto period = h.period_ms != 0 ? milliseconds(h.period_ms) : timing.heartbeat;
+    const auto period = pg->period_or(timing.heartbeat);
     if (!detail::silent_for_a_lease(pg->last_heartbeat_ns, topics::realtime_ns(), lease, period)) {
       return;
     }

@@ -249,11 +249,14 @@ struct EquipmentImpl {
   void for_each_item(std::size_t group, detail::TopicKind topic, std::size_t interaction, Fn&& fn);
   bool bounding_history = false;
   // Heartbeat thread: one heartbeat of group `index`.
-  void write_heartbeat(std::size_t index);
+  // `leaving`: the last one, period 0 (see write_leaving_heartbeats).
+  void write_heartbeat(std::size_t index, bool leaving = false);
+  void write_leaving_heartbeats() noexcept;
   void start_heartbeats();
   detail::TapSink tap_sink(std::size_t group);
   void dispose_all() noexcept;
-  bool await_disposals() noexcept;  // bounded: see equipment_publish.cpp
+  // Bounded by `deadline`: see equipment_publish.cpp.
+  bool await_acknowledgments(SteadyClock::time_point deadline) noexcept;
 
   // --- machines (equipment_machines.cpp) ---
   core::StepResult apply(ServiceSlot& slot, core::Event event, SteadyClock::time_point now,
@@ -282,8 +285,10 @@ struct EquipmentImpl {
   void name_configured_counterparts();
   void bind_configured();
   void on_device(detail::DeviceEvent& e);
+  // How a counterpart's instance ended: the last two are a graceful leave.
+  enum class Gone { WithoutWriters, Disposed, Leaving };
   void on_gone(std::size_t group, detail::TopicKind topic, const detail::Handle& instance,
-               bool disposed);
+               Gone how);
   void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
                       bool check_silence);
   void on_deadline_missed(std::size_t group);

@@ -67,6 +67,10 @@ void touch(PublishedItem& item, std::uint64_t& writer_seq, std::int64_t now_ns) 
   item.changed_ns = now_ns;
 }
 
+// How long a leaving equipment waits for its peers to acknowledge the
+// leave (heartbeats and disposals together): see await_acknowledgments.
+constexpr std::chrono::milliseconds kLeaveBound{500};
+
 std::uint32_t to_ms(std::chrono::milliseconds d) {
   return static_cast<std::uint32_t>(d.count());
 }
@@ -222,7 +226,7 @@ void EquipmentImpl::start_heartbeats() {
       [this](const std::string& text) { executor.post([this, text] { diagnostic(text); }); });
 }
 
-void EquipmentImpl::write_heartbeat(std::size_t index) {
+void EquipmentImpl::write_heartbeat(std::size_t index, bool leaving) {
   auto& g = *groups[index];
   const auto changes = [&g](TopicKind t) {
     return g.written[static_cast<std::size_t>(t)].load(std::memory_order_acquire);
@@ -230,7 +234,7 @@ void EquipmentImpl::write_heartbeat(std::size_t index) {
   idl::Heartbeat h;
   h.device_uuid(options.device_uuid);
   h.group(static_cast<std::uint32_t>(index));
-  h.period_ms(to_ms(g.timing.heartbeat));
+  h.period_ms(leaving ? 0 : to_ms(g.timing.heartbeat));
   h.lease_ms(to_ms(g.timing.lease()));
   h.beat(++g.beats);
   std::uint64_t request_changes = 0;
@@ -273,11 +277,16 @@ void EquipmentImpl::shutdown() noexcept {
   if (heartbeat_thread) heartbeat_thread->stop();
   executor.stop();
   if (started) {
+    // The leave in data, then the disposals, each acknowledged within one
+    // shared bound: KEEP_LAST 1 lets a disposal replace a leaving heartbeat
+    // not yet delivered. false: some peer did not answer within the bound
+    // (Fast DDS 2.9.1 says ERROR, not TIMEOUT, when a writer's wait runs
+    // out); it sees us lost instead, which is what a dead peer needs anyway.
+    const auto deadline = SteadyClock::now() + kLeaveBound;
+    write_leaving_heartbeats();
+    [[maybe_unused]] const bool heard_leaving = await_acknowledgments(deadline);
     dispose_all();
-    // false: some peer did not answer within the bound (Fast DDS 2.9.1 says
-    // ERROR, not TIMEOUT, when a writer's wait runs out); it sees us lost
-    // instead, which is what a dead peer needs anyway.
-    [[maybe_unused]] const bool left_in_order = await_disposals();
+    [[maybe_unused]] const bool left_in_order = await_acknowledgments(deadline);
   }
   for (auto& g : groups) g->tap.reset();
   heartbeat_thread.reset();
@@ -393,6 +402,21 @@ void EquipmentImpl::publish_description() {
   description_writer->write(d);
 }
 
+// The leave said in data (docs/design/middleware-layer.md, section 4): Fast
+// DDS 2.9 disposes by the key's MD5 hash alone, which a reader of another
+// vendor cannot map to an instance, so each group first writes one last
+// heartbeat with period 0, which every reader reads. The heartbeat thread
+// is stopped by then: nothing else writes these writers.
+void EquipmentImpl::write_leaving_heartbeats() noexcept {
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    try {
+      write_heartbeat(g, true);
+    } catch (const std::exception& e) {
+      std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": " << e.what() << '\n';
+    }
+  }
+}
+
 // Graceful leave: disposing every instance (heartbeats included) lets peers
 // see our items UNAVAILABLE at once instead of after a lease. Each disposal
 // is attempted even if another fails (a destructor must finish).
@@ -426,18 +450,19 @@ void EquipmentImpl::dispose_all() noexcept {
   attempt([&] { description_writer->dispose(d); });
 }
 
-// A peer takes our leave from the disposals, and a lost device from our
-// writers going away without them (equipment_events.cpp, on_gone and
-// on_writer_lost): the pairing is freed only for the first. Deleting the
-// writers right after the disposals lets a peer's discovery report the
-// writers gone before the disposals reach its readers (seen as
-// PairingRule.PairingHoldsUntilThePairedDeviceLeaves failing about one run
-// in ten), so the leave is waited for, bounded: a peer that died keeps its
-// match until its participant lease and never acknowledges.
-bool EquipmentImpl::await_disposals() noexcept {
-  constexpr std::chrono::milliseconds kLeaveBound{500};
+// A peer takes our leave from the leaving heartbeats or the disposals, and
+// a lost device from our writers going away without them
+// (equipment_events.cpp, on_gone and on_writer_lost): the pairing is freed
+// only for the first. Deleting the writers right after writing lets a
+// peer's discovery report the writers gone before the leave reaches its
+// readers (seen as PairingRule.PairingHoldsUntilThePairedDeviceLeaves
+// failing about one run in ten), so the leave is waited for, bounded: a peer
+// that died keeps its match until its participant lease and never
+// acknowledges.
+bool EquipmentImpl::await_acknowledgments(SteadyClock::time_point deadline) noexcept {
   if (!publisher) return true;
-  const eprosima::fastrtps::Duration_t bound(std::chrono::duration<double>(kLeaveBound).count());
+  const auto left = std::max(deadline - SteadyClock::now(), SteadyClock::duration::zero());
+  const eprosima::fastrtps::Duration_t bound(std::chrono::duration<double>(left).count());
   return publisher->get().wait_for_acknowledgments(bound) ==
          eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
 }

@@ -15,6 +15,7 @@
 // incarnation may be taken for current.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -38,6 +39,14 @@ struct PeerGroupKey {
   }
 };
 
+// The leave said in data (idl: Heartbeat.period_ms): a device's last
+// heartbeat of a group, written before its disposals, carries period 0. A
+// reader takes it as the disposal it precedes, which a reader of another
+// vendor may never get (Fast DDS 2.9 disposes by the key's MD5 hash alone).
+constexpr bool says_leaving(const ObservedHeartbeat& h) noexcept {
+  return h.period_ms == 0;
+}
+
 struct PeerGroup {
   std::int64_t last_heartbeat_ns = 0;           // reception of the newest heartbeat (0: none yet)
   ObservedHeartbeat newest;                     // the newest heartbeat itself
@@ -49,6 +58,11 @@ struct PeerGroup {
   bool behind_reported = false;
 
   bool heard() const noexcept { return last_heartbeat_ns != 0; }
+  // The period its heartbeats announce; `own` until one was heard. Never 0:
+  // a heartbeat with period 0 is a leave (says_leaving) and is not kept.
+  std::chrono::milliseconds period_or(std::chrono::milliseconds own) const noexcept {
+    return heard() ? std::chrono::milliseconds(newest.period_ms) : own;
+  }
   // Every change the newest heartbeat announced has been received, on the
   // interaction topics in `read`.
   bool in_step(const InteractionTopics& read) const noexcept;

@@ -58,13 +58,15 @@ class RawPeer {
   }
   RawPeer(const RawPeer&) = delete;
   RawPeer& operator=(const RawPeer&) = delete;
-  ~RawPeer() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
+  ~RawPeer() { stop_beating(); }
+  // The leave said in data without the disposals that follow it, as a
+  // reader of another vendor gets a Fast DDS device's graceful end: the
+  // heartbeats stop with a last one of period 0; the participant and its
+  // writers live on.
+  void leave_without_disposal() {
+    stop_beating();
+    std::lock_guard<std::mutex> lock(mutex_);
+    heartbeat_.leave();
   }
   // A change of value: new change number.
   void set(core::InteractionState state) {
@@ -76,6 +78,14 @@ class RawPeer {
   }
 
  private:
+  void stop_beating() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
   // The heartbeat every real device writes (a timer, not a synchronisation
   // sleep), announcing the newest change.
   void heartbeat() {

@@ -69,11 +69,11 @@ struct QuietListener : eprosima::fastdds::dds::DataWriterListener {};
 // partition.
 class RawDevice {
  public:
-  RawDevice(int domain, const std::string& uuid)
+  RawDevice(int domain, const std::string& uuid, const mtc::qos::Timing& timing = {})
       : participant_(domain,
                      mtc::qos::participant_qos(mtc::test::loopback<mtc::qos::ParticipantConfig>())),
         publisher_(participant_, {topics::device_partition(uuid)}),
-        heartbeat_(participant_, publisher_, uuid),
+        heartbeat_(participant_, publisher_, uuid, 0, timing),
         uuid_(uuid) {
     participant_.register_type(mtc::idl::type_support<mtc::idl::InteractionSamplePubSubType>());
     participant_.register_type(mtc::idl::type_support<mtc::idl::DeviceDescriptionPubSubType>());
@@ -119,6 +119,8 @@ class RawDevice {
     writer_->write(s);
   }
   void drop_writer() { writer_.reset(); }
+  // Its last heartbeat (period 0), with no disposal after it.
+  void leave() { heartbeat_.leave(); }
   // One heartbeat announcing `changes` as the newest response change.
   void beat(std::uint64_t changes) {
     heartbeat_.announce_interaction(mtc::core::Service::MaterialLoad, mtc::core::SubType::Response,
@@ -283,6 +285,32 @@ TEST(DomainObserver, ReportsLossWhenWriterIsDeleted) {
   dev.drop_writer();  // disposes its instances
   ASSERT_TRUE(rec.wait([&] { return !rec.lost.empty(); }));
   EXPECT_EQ(rec.lost[0].first, "cnc-1");
+}
+
+// The leave said in data, its disposals lost (a Cyclone reader of a Fast
+// DDS device never gets them): told at once as the device gone, its items
+// lost. With an 8 s lease, a loss would be told only after it: the wait
+// below ends at half of it.
+TEST(DomainObserver, TakesALeavingHeartbeatAsTheLeave) {
+  mtc::qos::Timing slow;
+  slow.heartbeat = 1s;
+  slow.missed_heartbeats = 8;
+  Recorder rec;
+  auto o = options(150);
+  o.timing = slow;
+  mtc::dds::DomainObserver observer(o, rec.callbacks());
+  RawDevice dev(150, "cnc-leaving", slow);
+  dev.announce();
+  dev.publish(mtc::idl::interaction_state::READY, 1);
+  dev.beat(1);
+  ASSERT_TRUE(
+      rec.wait([&] { return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats > 0; }));
+  dev.leave();
+  ASSERT_TRUE(rec.wait([&] { return !rec.devices_lost.empty(); }, slow.lease() / 2));
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  EXPECT_EQ(rec.devices_lost, std::vector<std::string>{"cnc-leaving"});
+  ASSERT_EQ(rec.lost.size(), 1u);
+  EXPECT_EQ(rec.lost[0].second, std::vector<std::string>{"mh1_material_load_response"});
 }
 
 TEST(DomainObserver, DeviceFilterHidesOtherDevices) {

@@ -3,7 +3,8 @@
 // reader and back, on one interaction topic, each side with the types its
 // own code generator made from idl/mtconnect_interfaces.idl. Every value
 // must arrive intact, each data item as its own instance (the key), and a
-// disposal must reach the instance it names.
+// disposal must reach the instance it names (Cyclone to Fast DDS; the other
+// way the leave reaches Cyclone as a heartbeat with period_ms 0).
 //
 // Both sides stay on loopback by configuration (Fast DDS: the loopback
 // transport of every test; Cyclone: qos::cyclone_loopback_config()) and run
@@ -12,11 +13,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <memory>
+#include <vector>
 
 #include "interaction_item.hpp"
 #include "interop_sides.hpp"
+#include "mtc/dds/equipment.hpp"
 
 namespace mtc::test::interop {
 namespace {
@@ -158,6 +162,70 @@ TEST(CycloneInterop, FastDdsDisposalReachesCycloneOnlyAsLossOfWriter) {
   got.clear();
   ASSERT_TRUE(take_cyclone_until(cyclone.get(), got, [&](auto& g) { return g.count(disposed); }));
   EXPECT_TRUE(got.find(disposed)->second.no_writers);
+}
+
+// One heartbeat as a Cyclone reader took it.
+struct BeatSeen {
+  bool valid_data = false;
+  std::uint32_t period_ms = 0;
+  bool disposed = false;
+  bool no_writers = false;
+};
+
+void take_heartbeats(dds_entity_t reader, std::vector<BeatSeen>& out) {
+  std::array<void*, 16> samples{};
+  std::array<dds_sample_info_t, 16> infos{};
+  const auto n = cyclone::check(dds_take(reader, samples.data(), infos.data(), 16, 16), "dds_take");
+  for (dds_return_t i = 0; i < n; ++i) {
+    const auto& info = infos[static_cast<std::size_t>(i)];
+    BeatSeen b;
+    b.valid_data = info.valid_data;
+    if (info.valid_data) {
+      b.period_ms =
+          static_cast<const mtc_idl_Heartbeat*>(samples[static_cast<std::size_t>(i)])->period_ms;
+    }
+    b.disposed = info.instance_state == DDS_IST_NOT_ALIVE_DISPOSED;
+    b.no_writers = info.instance_state == DDS_IST_NOT_ALIVE_NO_WRITERS;
+    out.push_back(b);
+  }
+  if (n > 0) cyclone::check(dds_return_loan(reader, samples.data(), n), "dds_return_loan");
+}
+
+// The remedy for the dropped disposal (middleware-layer.md, step 6): a
+// leaving Fast DDS Equipment's last heartbeat, period_ms 0, is data, which
+// the Cyclone reader takes, before the writer is gone. The heartbeat's own
+// disposal is still dropped (its key, too, hashes with MD5).
+TEST(CycloneInterop, FastDdsEquipmentLeaveReachesCycloneAsALeavingHeartbeat) {
+  CycloneReader cyclone(kFastDisposalDomain, mtc_idl_Heartbeat_desc, heartbeat_spec());
+  std::vector<BeatSeen> got;
+  {
+    dds::EquipmentOptions o;
+    o.domain_id = kFastDisposalDomain;
+    o.device_uuid = kDevice;
+    o.transport = qos::Transport::Loopback;
+    dds::Equipment equipment(o);
+    equipment.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {"cnc-1", "mh1"}});
+    equipment.add_requester("mh1", core::Service::MaterialLoad);
+    equipment.start();
+    ASSERT_TRUE(wait_until([&] {
+      take_heartbeats(cyclone.get(), got);
+      return std::any_of(got.begin(), got.end(),
+                         [](const BeatSeen& b) { return b.valid_data && b.period_ms == 100; });
+    }));
+  }  // a graceful end: the leaving heartbeat, then the disposals, then the writers go
+  got.clear();
+  ASSERT_TRUE(wait_until([&] {
+    take_heartbeats(cyclone.get(), got);
+    return std::any_of(got.begin(), got.end(), [](const BeatSeen& b) { return b.no_writers; });
+  }));
+  const auto leaving = std::find_if(
+      got.begin(), got.end(), [](const BeatSeen& b) { return b.valid_data && b.period_ms == 0; });
+  ASSERT_NE(leaving, got.end()) << "the leaving heartbeat never reached Cyclone";
+  const auto gone = std::find_if(got.begin(), got.end(),
+                                 [](const BeatSeen& b) { return b.no_writers && !b.valid_data; });
+  EXPECT_TRUE(gone == got.end() || leaving < gone) << "taken only after the writer had gone";
+  EXPECT_TRUE(std::none_of(got.begin(), got.end(), [](const BeatSeen& b) { return b.disposed; }))
+      << "Cyclone now takes Fast DDS disposals: update the design";
 }
 
 TEST(CycloneInterop, CycloneWriterToFastDdsReader) {

@@ -46,12 +46,14 @@ struct DomainObserverCallbacks {
   // history short).
   std::function<void(const ObservedValue&)> on_value;
   // The heartbeats that vouch for these data items stopped (or their device
-  // disposed them, or left): their values must now read UNAVAILABLE.
+  // disposed them, or left: its last heartbeat has period_ms 0): their
+  // values must now read UNAVAILABLE.
   std::function<void(const std::string& device_uuid, const std::vector<std::string>& data_item_ids)>
       on_items_lost;
   // The device's own heartbeat (group 0) stopped, or it left: device gone.
   std::function<void(const std::string& device_uuid)> on_device_lost;
-  // Every heartbeat (optional; 10 per second per device at the default).
+  // Every heartbeat (optional; 10 per second per device at the default),
+  // the last one of a leaving device's group too (period_ms 0).
   std::function<void(const ObservedHeartbeat&)> on_heartbeat;
   // Without DDS-Security: a participant other than the device's live owner
   // (the one whose announcement was accepted) wrote an announcement, a value

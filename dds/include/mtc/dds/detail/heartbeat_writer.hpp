@@ -68,6 +68,12 @@ class HeartbeatWriter {
     sample_.source_time_ns(topics::realtime_ns());
     writer_->write(sample_);
   }
+  // The leave said in data: one last heartbeat with period_ms 0, what the
+  // runtime writes before it disposes (idl: Heartbeat.period_ms).
+  void leave() {
+    sample_.period_ms(0);
+    beat();
+  }
   // Asserts the writer's liveliness without writing a heartbeat.
   void assert_liveliness() { writer_->assert_liveliness(); }
   // Disposes the instance (a graceful leave).
