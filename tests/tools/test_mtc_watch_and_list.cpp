@@ -1,6 +1,7 @@
 // `mtc watch` and `mtc list` against live peers in other processes: the
 // watcher sees each transition with its latency and marks a killed device's
-// items UNAVAILABLE; list finds the devices and their interfaces.
+// items UNAVAILABLE and a requester's graceful end as its leaving heartbeat;
+// list finds the devices and their interfaces.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -17,7 +18,7 @@ using Clock = std::chrono::steady_clock;
 
 TEST(Watch, ShowsTransitionsWithLatencyAndUnavailableOnLoss) {
   constexpr int kDomain = 73;
-  auto watch = start_mtc("watch", kDomain, {"--transport", "loopback-udp"});
+  auto watch = start_mtc("watch", kDomain, {"--transport", "loopback-udp", "--heartbeats"});
   ASSERT_TRUE(watch->wait_for_line({"\"event\":\"watching\""}, kStartTimeout))
       << watch->transcript();
   auto responder = start_responder(
@@ -42,6 +43,12 @@ TEST(Watch, ShowsTransitionsWithLatencyAndUnavailableOnLoss) {
     EXPECT_GE(latency, -50.0);  // same host, same clock: small, never far negative
     EXPECT_LT(latency, 5000.0);
   }
+
+  // The requester ended gracefully: its last heartbeat says it is leaving
+  // (period 0), which a peer whose disposals never arrive still reads.
+  ASSERT_TRUE(watch->wait_for_line(
+      {"\"event\":\"heartbeat\"", "\"device\":\"robot-1\"", "\"period_ms\":0,"}, kStartTimeout))
+      << watch->transcript();
 
   const auto t0 = Clock::now();
   responder->send_signal(SIGKILL);

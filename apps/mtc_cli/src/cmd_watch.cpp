@@ -102,10 +102,13 @@ class WatchPrinter {
                     .str());
       return;
     }
+    // period_ms 0 is a group's last heartbeat: the device is leaving.
+    const std::string period =
+        h.period_ms == 0 ? "leaving" : "every " + std::to_string(h.period_ms) + " ms";
     out_.line(format_utc(h.reception_time_ns) + "  " + h.device_uuid + "  heartbeat group " +
-              std::to_string(h.group) + " #" + std::to_string(h.beat) + "  (every " +
-              std::to_string(h.period_ms) + " ms, lease " + std::to_string(h.lease_ms) +
-              " ms; changes: request " + std::to_string(h.request_changes) + ", response " +
+              std::to_string(h.group) + " #" + std::to_string(h.beat) + "  (" + period +
+              ", lease " + std::to_string(h.lease_ms) + " ms; changes: request " +
+              std::to_string(h.request_changes) + ", response " +
               std::to_string(h.response_changes) + ", interface state " +
               std::to_string(h.interface_state_changes) + ")");
   }
