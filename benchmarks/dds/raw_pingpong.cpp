@@ -24,6 +24,7 @@
 #include "mtc/bench/proc_cpu.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -86,20 +87,20 @@ class Endpoint {
     }
     check(participant_ != nullptr, "participant");
     check_rc(type_.register_type(participant_), "type registration");
-    fdds::Topic* wtopic =
-        participant_->create_topic(write_topic, type_.get_type_name(), preset.topic_qos());
-    fdds::Topic* rtopic =
-        participant_->create_topic(read_topic, type_.get_type_name(), preset.topic_qos());
+    fdds::Topic* wtopic = participant_->create_topic(write_topic, type_.get_type_name(),
+                                                     mtc::qos::fastdds_topic_qos(preset));
+    fdds::Topic* rtopic = participant_->create_topic(read_topic, type_.get_type_name(),
+                                                     mtc::qos::fastdds_topic_qos(preset));
     check(wtopic != nullptr && rtopic != nullptr, "topics");
     fdds::Publisher* pub = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     fdds::Subscriber* sub = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     check(pub != nullptr && sub != nullptr, "publisher/subscriber");
 
-    const fdds::DataWriterQos wqos = preset.writer_qos();
+    const fdds::DataWriterQos wqos = mtc::qos::fastdds_writer_qos(preset);
     writer_ = pub->create_datawriter(wtopic, wqos, &writer_listener_);
     check(writer_ != nullptr, "writer");
 
-    const fdds::DataReaderQos rqos = preset.reader_qos();
+    const fdds::DataReaderQos rqos = mtc::qos::fastdds_reader_qos(preset);
     reader_ = listener == nullptr ? sub->create_datareader(rtopic, rqos)
                                   : sub->create_datareader(rtopic, rqos, listener,
                                                            fdds::StatusMask::data_available());

@@ -10,6 +10,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -317,14 +318,14 @@ std::unique_ptr<Topic> make_topic(Participant& participant, TopicKind kind,
     case TopicKind::DeviceDescription:
       type = registered<idl::DeviceDescriptionPubSubType>(participant);
       return std::make_unique<Topic>(participant, topic_name(kind), type,
-                                     qos::device_description_topic(timing).topic_qos());
+                                     qos::fastdds_topic_qos(qos::device_description_topic(timing)));
     case TopicKind::Heartbeat:
       type = registered<idl::HeartbeatPubSubType>(participant);
       return std::make_unique<Topic>(participant, topic_name(kind), type,
-                                     qos::heartbeat_topic(timing).topic_qos());
+                                     qos::fastdds_topic_qos(qos::heartbeat_topic(timing)));
   }
   return std::make_unique<Topic>(participant, topic_name(kind), type,
-                                 qos::state_topic(timing).topic_qos());
+                                 qos::fastdds_topic_qos(qos::state_topic(timing)));
 }
 
 }  // namespace
@@ -342,7 +343,7 @@ Topic& TopicSet::interaction(std::size_t index) {
   if (!slot) {
     slot = std::make_unique<Topic>(participant_, interaction_topic_name(index),
                                    registered<idl::InteractionSamplePubSubType>(participant_),
-                                   qos::state_topic(timing_).topic_qos());
+                                   qos::fastdds_topic_qos(qos::state_topic(timing_)));
   }
   return *slot;
 }
@@ -383,13 +384,13 @@ std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const Ta
 fdds::DataReaderQos reader_qos(TopicKind kind, const TapConfig& config) {
   switch (kind) {
     case TopicKind::DeviceDescription:
-      return qos::device_description_topic(config.timing).reader_qos();
+      return qos::fastdds_reader_qos(qos::device_description_topic(config.timing));
     case TopicKind::Heartbeat:
-      return config.observer ? qos::heartbeat_observer_topic(config.timing).reader_qos()
-                             : qos::heartbeat_topic(config.timing).reader_qos();
+      return config.observer ? qos::fastdds_reader_qos(qos::heartbeat_observer_topic(config.timing))
+                             : qos::fastdds_reader_qos(qos::heartbeat_topic(config.timing));
     default:
-      return config.observer ? qos::state_observer_topic(config.timing).reader_qos()
-                             : qos::state_topic(config.timing).reader_qos();
+      return config.observer ? qos::fastdds_reader_qos(qos::state_observer_topic(config.timing))
+                             : qos::fastdds_reader_qos(qos::state_topic(config.timing));
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "equipment_impl.hpp"
 #include "mtc/dds/detail/topics.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -91,7 +92,7 @@ bool same_timing(const qos::Timing& a, const qos::Timing& b) {
 // services it requests and provides (however many interfaces use them).
 void EquipmentImpl::create_group(std::size_t index) {
   auto& g = *groups[index];
-  const auto wq = qos::state_topic(g.timing).writer_qos();
+  const auto wq = qos::fastdds_writer_qos(qos::state_topic(g.timing));
   for (const auto& itf : interfaces) {
     if (itf->group != index) continue;
     for (auto i : itf->services) {
@@ -102,8 +103,8 @@ void EquipmentImpl::create_group(std::size_t index) {
     }
   }
   g.heartbeat_writer = std::make_unique<Writer<idl::Heartbeat>>(
-      *publisher, topics->get(TopicKind::Heartbeat), qos::heartbeat_topic(g.timing).writer_qos(),
-      writer_listener);
+      *publisher, topics->get(TopicKind::Heartbeat),
+      qos::fastdds_writer_qos(qos::heartbeat_topic(g.timing)), writer_listener);
   g.interface_writer = std::make_unique<Writer<idl::InterfaceStateSample>>(
       *publisher, topics->get(TopicKind::InterfaceState), wq, writer_listener);
   detail::for_door_and_chuck([&](auto tag) {
@@ -155,7 +156,7 @@ void EquipmentImpl::create_entities() {
   peer_groups.set_read(interaction_topics_read(*this));
   description_writer = std::make_unique<Writer<idl::DeviceDescription>>(
       *publisher, topics->get(detail::TopicKind::DeviceDescription),
-      qos::device_description_topic(t).writer_qos(), writer_listener);
+      qos::fastdds_writer_qos(qos::device_description_topic(t)), writer_listener);
 
   // Machines, initial states, announcement; then the executor, the
   // heartbeats and the readers.

@@ -4,7 +4,7 @@
 
 #include <sstream>
 
-#include "mtc/qos/endpoint_qos.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 
 namespace mtc::qos {
 

@@ -10,7 +10,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "mtc/qos/endpoint_qos.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 

@@ -1,7 +1,8 @@
 # Fails when a Fast DDS or Fast CDR header is reachable from a header a
 # vendor includes. Runs the compiler's preprocessor with -H (one line per
 # header opened, dots for the nesting depth) on a one-line translation unit
-# per header, with the include directories a target linking mtc::dds gets.
+# per header, with the include directories given (those a target linking
+# mtc::dds gets; for tests/qos, mtc::qos's own).
 #
 #   cmake -DCXX=<compiler> -DINCLUDES_FILE=<file> -DWORK_DIR=<dir>
 #         -DHEADERS=<a;b;...> -P check_vendor_headers.cmake

@@ -16,6 +16,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "transport.hpp"
@@ -44,9 +45,10 @@ class RawPeer {
         service_(service) {
     participant_.register_type(idl::type_support<idl::InteractionSamplePubSubType>());
     topic_ = std::make_unique<Topic>(participant_, topics::interaction_topic(side, service),
-                                     "mtc::idl::InteractionSample", qos::state_topic().topic_qos());
+                                     "mtc::idl::InteractionSample",
+                                     qos::fastdds_topic_qos(qos::state_topic()));
     writer_ = std::make_unique<Writer<idl::InteractionSample>>(
-        publisher_, *topic_, qos::state_topic().writer_qos(), listener_);
+        publisher_, *topic_, qos::fastdds_writer_qos(qos::state_topic()), listener_);
     sample_.device_uuid(uuid);
     sample_.interface_id("mh1");
     sample_.paired_device_uuid(paired_with);

@@ -16,6 +16,7 @@
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "transport.hpp"
@@ -80,15 +81,16 @@ class RawDevice {
     response_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_,
         topics::interaction_topic(mtc::core::SubType::Response, mtc::core::Service::MaterialLoad),
-        "mtc::idl::InteractionSample", mtc::qos::state_topic().topic_qos());
+        "mtc::idl::InteractionSample", mtc::qos::fastdds_topic_qos(mtc::qos::state_topic()));
     description_topic_ = std::make_unique<mtc::dds::detail::Topic>(
         participant_, topics::kDeviceDescription, "mtc::idl::DeviceDescription",
-        mtc::qos::device_description_topic().topic_qos());
+        mtc::qos::fastdds_topic_qos(mtc::qos::device_description_topic()));
     writer_ = std::make_unique<mtc::dds::detail::Writer<mtc::idl::InteractionSample>>(
-        publisher_, *response_topic_, mtc::qos::state_topic().writer_qos(), listener_);
-    describer_ = std::make_unique<mtc::dds::detail::Writer<mtc::idl::DeviceDescription>>(
-        publisher_, *description_topic_, mtc::qos::device_description_topic().writer_qos(),
+        publisher_, *response_topic_, mtc::qos::fastdds_writer_qos(mtc::qos::state_topic()),
         listener_);
+    describer_ = std::make_unique<mtc::dds::detail::Writer<mtc::idl::DeviceDescription>>(
+        publisher_, *description_topic_,
+        mtc::qos::fastdds_writer_qos(mtc::qos::device_description_topic()), listener_);
   }
   void announce() {
     mtc::idl::DeviceDescription d;

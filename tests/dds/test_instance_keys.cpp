@@ -17,6 +17,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "transport.hpp"
@@ -135,9 +136,9 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   std::vector<std::unique_ptr<Topic>> interaction_topics;
   for (auto service : {Service::MaterialLoad, Service::MaterialUnload, Service::OpenDoor}) {
     for (auto side : {core::SubType::Request, core::SubType::Response}) {
-      interaction_topics.push_back(
-          std::make_unique<Topic>(participant, topics::interaction_topic(side, service),
-                                  "mtc::idl::InteractionSample", qos::state_topic().topic_qos()));
+      interaction_topics.push_back(std::make_unique<Topic>(
+          participant, topics::interaction_topic(side, service), "mtc::idl::InteractionSample",
+          qos::fastdds_topic_qos(qos::state_topic())));
     }
   }
   Subscriber subscriber(participant, {topics::kAllDevicesPartition});
@@ -145,8 +146,8 @@ TEST(InstanceKeys, EveryDataItemIsOneInstanceWhileHandshakesRun) {
   std::vector<std::unique_ptr<Reader>> readers;
   readers.reserve(interaction_topics.size());
   for (auto& topic : interaction_topics) {
-    readers.push_back(
-        std::make_unique<Reader>(subscriber, *topic, qos::state_topic().reader_qos(), &counter));
+    readers.push_back(std::make_unique<Reader>(
+        subscriber, *topic, qos::fastdds_reader_qos(qos::state_topic()), &counter));
   }
 
   cnc.start();

@@ -21,6 +21,7 @@
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
 #include "mtc/qos/cyclone_qos.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "transport.hpp"
@@ -72,7 +73,8 @@ class FastSide {
       : spec_(std::move(spec)),
         participant_(domain, qos::participant_qos(loopback<qos::ParticipantConfig>())) {
     participant_.register_type(idl::type_support<PubSub>());
-    topic_.emplace(participant_, spec_.name, spec_.type_name, spec_.qos.topic_qos());
+    topic_.emplace(participant_, spec_.name, spec_.type_name,
+                   mtc::qos::fastdds_topic_qos(spec_.qos));
   }
 
  protected:
@@ -89,7 +91,8 @@ class FastWriter : public FastSide<PubSub> {
   FastWriter(int domain, TopicSpec spec)
       : FastSide<PubSub>(domain, std::move(spec)),
         publisher_(this->participant_, {detail::topics::device_partition(kDevice)}),
-        writer_(publisher_, *this->topic_, this->spec_.qos.writer_qos(), listener_) {}
+        writer_(publisher_, *this->topic_, mtc::qos::fastdds_writer_qos(this->spec_.qos),
+                listener_) {}
   detail::Writer<Sample>& writer() { return writer_; }
   int matched() const {
     fdds::PublicationMatchedStatus status;
@@ -111,7 +114,8 @@ class FastReader : public FastSide<PubSub> {
   FastReader(int domain, TopicSpec spec)
       : FastSide<PubSub>(domain, std::move(spec)),
         subscriber_(this->participant_, {detail::topics::kAllDevicesPartition}),
-        reader_(subscriber_, *this->topic_, this->spec_.qos.reader_qos(), nullptr) {}
+        reader_(subscriber_, *this->topic_, mtc::qos::fastdds_reader_qos(this->spec_.qos),
+                nullptr) {}
   fdds::DataReader& reader() { return reader_.get(); }
   int matched() const {
     fdds::SubscriptionMatchedStatus status;

@@ -1,6 +1,6 @@
 // The same preset is the same contract on both middlewares: for every preset
-// of mtc::qos, a writer and a reader are created on Fast DDS (writer_qos(),
-// reader_qos()) and on Cyclone DDS (cyclone_writer_qos(), ...), and the
+// of mtc::qos, a writer and a reader are created on Fast DDS (fastdds_writer_qos(),
+// fastdds_reader_qos()) and on Cyclone DDS (cyclone_writer_qos(), ...), and the
 // policies each entity reports back (DataWriter::get_qos, dds_get_qos: what
 // the middleware took, not what we asked for) are compared policy by policy.
 // No traffic: the entities only exist. Domains 197 and 198 (a process holds

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "mtc/qos/compatibility.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace {
@@ -17,26 +18,26 @@ using mtc::qos::WriterEndpoint;
 WriterEndpoint writer() {
   return {"mtc/InterfaceState",
           "mtc::idl::InterfaceStateSample",
-          mtc::qos::state_topic().writer_qos(),
+          mtc::qos::fastdds_writer_qos(mtc::qos::state_topic()),
           {"mtc/dev/robot"}};
 }
 ReaderEndpoint reader() {
   return {"mtc/InterfaceState",
           "mtc::idl::InterfaceStateSample",
-          mtc::qos::state_topic().reader_qos(),
+          mtc::qos::fastdds_reader_qos(mtc::qos::state_topic()),
           {"mtc/dev/*"}};
 }
 
 WriterEndpoint heartbeat_writer() {
   return {"mtc/Heartbeat",
           "mtc::idl::Heartbeat",
-          mtc::qos::heartbeat_topic().writer_qos(),
+          mtc::qos::fastdds_writer_qos(mtc::qos::heartbeat_topic()),
           {"mtc/dev/robot"}};
 }
 ReaderEndpoint heartbeat_reader() {
   return {"mtc/Heartbeat",
           "mtc::idl::Heartbeat",
-          mtc::qos::heartbeat_topic().reader_qos(),
+          mtc::qos::fastdds_reader_qos(mtc::qos::heartbeat_topic()),
           {"mtc/dev/*"}};
 }
 
@@ -56,13 +57,13 @@ TEST(Compatibility, ObserverAcceptsLeasesUpToItsOwn) {
   mtc::qos::Timing observer_timing;
   observer_timing.missed_heartbeats = 5;  // lease 500 ms
   ReaderEndpoint observer = heartbeat_reader();
-  observer.qos = mtc::qos::heartbeat_observer_topic(observer_timing).reader_qos();
+  observer.qos = mtc::qos::fastdds_reader_qos(mtc::qos::heartbeat_observer_topic(observer_timing));
   mtc::qos::Timing device;  // 100 ms x 3: lease and deadline 300 ms
   WriterEndpoint w = heartbeat_writer();
-  w.qos = mtc::qos::heartbeat_topic(device).writer_qos();
+  w.qos = mtc::qos::fastdds_writer_qos(mtc::qos::heartbeat_topic(device));
   EXPECT_TRUE(check_compatibility(w, observer).compatible);
   device.missed_heartbeats = 6;  // lease 600 ms: longer than the observer's
-  w.qos = mtc::qos::heartbeat_topic(device).writer_qos();
+  w.qos = mtc::qos::fastdds_writer_qos(mtc::qos::heartbeat_topic(device));
   const auto c = check_compatibility(w, observer);
   EXPECT_FALSE(c.compatible);
   EXPECT_TRUE(mentions(c, "liveliness"));

@@ -11,6 +11,7 @@
 
 #include <stdexcept>
 
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -22,7 +23,7 @@ namespace xml = eprosima::fastrtps::xmlparser;
 using mtc::qos::to_duration;
 
 TEST(Presets, StateTopicHoldsDocumentedPolicies) {
-  const auto w = mtc::qos::state_topic().writer_qos();
+  const auto w = mtc::qos::fastdds_writer_qos(mtc::qos::state_topic());
   EXPECT_EQ(w.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(w.history().kind, fdds::KEEP_LAST_HISTORY_QOS);
@@ -33,7 +34,7 @@ TEST(Presets, StateTopicHoldsDocumentedPolicies) {
   EXPECT_EQ(w.liveliness().lease_duration, eprosima::fastrtps::c_TimeInfinite);
   EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(20ms));
   EXPECT_GE(w.resource_limits().max_instances, 1024);
-  const auto r = mtc::qos::state_topic().reader_qos();
+  const auto r = mtc::qos::fastdds_reader_qos(mtc::qos::state_topic());
   EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(r.deadline().period, eprosima::fastrtps::c_TimeInfinite);
   EXPECT_EQ(r.liveliness().kind, fdds::AUTOMATIC_LIVELINESS_QOS);
@@ -42,7 +43,7 @@ TEST(Presets, StateTopicHoldsDocumentedPolicies) {
 }
 
 TEST(Presets, HeartbeatTopicCarriesDeadlineAndLiveliness) {
-  const auto w = mtc::qos::heartbeat_topic().writer_qos();
+  const auto w = mtc::qos::fastdds_writer_qos(mtc::qos::heartbeat_topic());
   EXPECT_EQ(w.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(w.history().depth, 1);
@@ -50,7 +51,7 @@ TEST(Presets, HeartbeatTopicCarriesDeadlineAndLiveliness) {
   EXPECT_EQ(w.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
   EXPECT_EQ(w.liveliness().lease_duration, to_duration(300ms));
   EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(20ms));
-  const auto r = mtc::qos::heartbeat_topic().reader_qos();
+  const auto r = mtc::qos::fastdds_reader_qos(mtc::qos::heartbeat_topic());
   EXPECT_EQ(r.deadline().period, to_duration(300ms));
   EXPECT_EQ(r.liveliness().kind, fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS);
   EXPECT_EQ(r.liveliness().lease_duration, to_duration(300ms));
@@ -58,7 +59,7 @@ TEST(Presets, HeartbeatTopicCarriesDeadlineAndLiveliness) {
 }
 
 TEST(Presets, ObserverReadsHeartbeatsByLivelinessWithoutDeadline) {
-  const auto r = mtc::qos::heartbeat_observer_topic().reader_qos();
+  const auto r = mtc::qos::fastdds_reader_qos(mtc::qos::heartbeat_observer_topic());
   EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
   EXPECT_EQ(r.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(r.deadline().period, eprosima::fastrtps::c_TimeInfinite);
@@ -66,8 +67,8 @@ TEST(Presets, ObserverReadsHeartbeatsByLivelinessWithoutDeadline) {
   EXPECT_EQ(r.liveliness().lease_duration, to_duration(300ms));
   EXPECT_EQ(r.resource_limits().max_instances, 16384);
   // The observer's state reader is the equipment's.
-  const auto state = mtc::qos::state_observer_topic().reader_qos();
-  const auto equipment = mtc::qos::state_topic().reader_qos();
+  const auto state = mtc::qos::fastdds_reader_qos(mtc::qos::state_observer_topic());
+  const auto equipment = mtc::qos::fastdds_reader_qos(mtc::qos::state_topic());
   EXPECT_EQ(state.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(state.history().depth, equipment.history().depth);
   EXPECT_EQ(state.resource_limits().max_instances, 16384);
@@ -79,8 +80,8 @@ TEST(Presets, ObserverReadsHeartbeatsByLivelinessWithoutDeadline) {
 TEST(Presets, ReadersHoldEveryDevicesInstancesWritersTheirOwn) {
   for (const auto& preset : {mtc::qos::state_topic(), mtc::qos::device_description_topic(),
                              mtc::qos::heartbeat_topic()}) {
-    EXPECT_EQ(preset.writer_qos().resource_limits().max_instances, 1024);
-    EXPECT_EQ(preset.reader_qos().resource_limits().max_instances, 16384);
+    EXPECT_EQ(mtc::qos::fastdds_writer_qos(preset).resource_limits().max_instances, 1024);
+    EXPECT_EQ(mtc::qos::fastdds_reader_qos(preset).resource_limits().max_instances, 16384);
   }
 }
 
@@ -89,16 +90,18 @@ TEST(Presets, TimingIsConfigurablePerInterface) {
   t.heartbeat = 50ms;
   t.missed_heartbeats = 4;
   t.reliable_heartbeat = 10ms;
-  const auto w = mtc::qos::heartbeat_topic(t).writer_qos();
+  const auto w = mtc::qos::fastdds_writer_qos(mtc::qos::heartbeat_topic(t));
   EXPECT_EQ(w.deadline().period, to_duration(200ms));
   EXPECT_EQ(w.liveliness().lease_duration, to_duration(200ms));
   EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(10ms));
-  EXPECT_EQ(mtc::qos::state_topic(t).writer_qos().reliable_writer_qos().times.heartbeatPeriod,
+  EXPECT_EQ(mtc::qos::fastdds_writer_qos(mtc::qos::state_topic(t))
+                .reliable_writer_qos()
+                .times.heartbeatPeriod,
             to_duration(10ms));
 }
 
 TEST(Presets, DeviceDescriptionHasNeitherDeadlineNorLease) {
-  const auto w = mtc::qos::device_description_topic().writer_qos();
+  const auto w = mtc::qos::fastdds_writer_qos(mtc::qos::device_description_topic());
   EXPECT_EQ(w.durability().kind, fdds::TRANSIENT_LOCAL_DURABILITY_QOS);
   EXPECT_EQ(w.deadline().period, eprosima::fastrtps::c_TimeInfinite);
   EXPECT_EQ(w.liveliness().kind, fdds::AUTOMATIC_LIVELINESS_QOS);
@@ -168,14 +171,14 @@ TEST_F(XmlProfiles, EndpointProfilesMatchCodePresets) {
   for (const auto name : {mtc::qos::kStateProfile, mtc::qos::kDeviceDescriptionProfile,
                           mtc::qos::kHeartbeatProfile}) {
     const auto preset = mtc::qos::preset(name);
-    expect_same_writer(std::string(name) + ".writer", preset.writer_qos());
-    expect_same_reader(std::string(name) + ".reader", preset.reader_qos());
+    expect_same_writer(std::string(name) + ".writer", mtc::qos::fastdds_writer_qos(preset));
+    expect_same_reader(std::string(name) + ".reader", mtc::qos::fastdds_reader_qos(preset));
   }
   // An observer only reads.
   expect_same_reader(std::string(mtc::qos::kStateObserverProfile) + ".reader",
-                     mtc::qos::state_observer_topic().reader_qos());
+                     mtc::qos::fastdds_reader_qos(mtc::qos::state_observer_topic()));
   expect_same_reader(std::string(mtc::qos::kHeartbeatObserverProfile) + ".reader",
-                     mtc::qos::heartbeat_observer_topic().reader_qos());
+                     mtc::qos::fastdds_reader_qos(mtc::qos::heartbeat_observer_topic()));
 }
 
 TEST_F(XmlProfiles, EveryPresetHasAReaderProfile) {

@@ -20,6 +20,7 @@
 
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -73,7 +74,7 @@ class Peer {
     if (participant_ == nullptr) throw std::runtime_error("participant");
     type_.register_type(participant_);
     topic_ = participant_->create_topic("mtc/test/InterfaceState", type_.get_type_name(),
-                                        preset_.topic_qos());
+                                        mtc::qos::fastdds_topic_qos(preset_));
     if (topic_ == nullptr) throw std::runtime_error("topic");
   }
   Peer(const Peer&) = delete;
@@ -84,13 +85,13 @@ class Peer {
   }
   fdds::DataWriter* make_writer() {
     auto* pub = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    writer_ = pub->create_datawriter(topic_, preset_.writer_qos(), &wl_);
+    writer_ = pub->create_datawriter(topic_, mtc::qos::fastdds_writer_qos(preset_), &wl_);
     if (writer_ == nullptr) throw std::runtime_error("writer");
     return writer_;
   }
   void make_reader(Seen& seen) {
     auto* sub = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    if (sub->create_datareader(topic_, preset_.reader_qos(), &seen) == nullptr) {
+    if (sub->create_datareader(topic_, mtc::qos::fastdds_reader_qos(preset_), &seen) == nullptr) {
       throw std::runtime_error("reader");
     }
   }

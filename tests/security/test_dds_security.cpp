@@ -22,6 +22,7 @@
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "security_pki.hpp"
@@ -90,7 +91,7 @@ class RawParticipant {
     if (!t) {
       t = std::make_unique<detail::Topic>(participant_, topics::interaction_topic(side, service),
                                           "mtc::idl::InteractionSample",
-                                          qos::state_topic(test_timing()).topic_qos());
+                                          qos::fastdds_topic_qos(qos::state_topic(test_timing())));
     }
     return *t;
   }
@@ -101,7 +102,8 @@ class RawParticipant {
     publisher_ = std::make_unique<detail::Publisher>(
         participant_, std::vector<std::string>{topics::device_partition(partition_uuid)});
     writer_ = std::make_unique<detail::Writer<idl::InteractionSample>>(
-        *publisher_, topic(side, service), qos::state_topic(test_timing()).writer_qos(), listener_);
+        *publisher_, topic(side, service), qos::fastdds_writer_qos(qos::state_topic(test_timing())),
+        listener_);
   }
   // `on_data` is called (from a Fast DDS thread, after the samples are
   // counted) when samples arrive, so a test can wait for them.
@@ -112,7 +114,7 @@ class RawParticipant {
         participant_, std::vector<std::string>{topics::device_partition(partition_uuid)});
     reader_ = std::make_unique<detail::Reader>(
         *subscriber_, topic(side, core::Service::MaterialLoad),
-        qos::state_topic(test_timing()).reader_qos(), &reader_listener_);
+        qos::fastdds_reader_qos(qos::state_topic(test_timing())), &reader_listener_);
   }
   // Writes, as `uuid`, the mh1 item of (service, side) in `state`, on
   // whichever topic the writer has.

@@ -11,6 +11,7 @@
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
@@ -98,11 +99,11 @@ RoguePeer::RoguePeer(int domain, const std::string& device, const std::string& i
   i.topic_side = own_side;
   i.topic = std::make_unique<dds::detail::Topic>(
       i.participant, dds::detail::topics::interaction_topic(own_side, service),
-      type.get_type_name(), qos::state_topic(i.timing).topic_qos());
+      type.get_type_name(), qos::fastdds_topic_qos(qos::state_topic(i.timing)));
   i.publisher = std::make_unique<dds::detail::Publisher>(
       i.participant, std::vector<std::string>{dds::detail::topics::device_partition(device)});
   i.writer = std::make_unique<dds::detail::Writer<idl::InteractionSample>>(
-      *i.publisher, *i.topic, qos::state_topic(i.timing).writer_qos(), i.listener);
+      *i.publisher, *i.topic, qos::fastdds_writer_qos(qos::state_topic(i.timing)), i.listener);
   i.heartbeat = std::make_unique<dds::detail::HeartbeatWriter>(i.participant, *i.publisher, device,
                                                                0, i.timing);
   i.sample.device_uuid(device);

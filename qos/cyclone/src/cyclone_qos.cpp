@@ -19,8 +19,9 @@ dds_duration_t to_cyclone(std::chrono::nanoseconds d) noexcept {
   return static_cast<dds_duration_t>(d.count());
 }
 
-// The policies writer_qos(), reader_qos() and topic_qos() share, the same
-// values as apply_common() in endpoint_qos.cpp gives Fast DDS.
+// The policies fastdds_writer_qos(), fastdds_reader_qos() and
+// fastdds_topic_qos() share, the same values as apply_common() in
+// fastdds_qos.cpp gives Fast DDS.
 void apply_common(const EndpointQos& e, dds_qos_t* q) {
   // 100 ms: Fast DDS's default max_blocking_time, set so both block alike.
   dds_qset_reliability(q,

@@ -3,18 +3,16 @@
 //
 //   auto q = EndpointQos().reliable().transient_local().keep_last(1)
 //                .deadline(300ms).liveliness_manual_by_topic(300ms);
-//   writer_qos = q.writer_qos();  reader_qos = q.reader_qos();
 //
-// The value object keeps only the policies this project sets; writer_qos(),
-// reader_qos() and topic_qos() translate them into Fast DDS QoS. Everything
-// not set keeps the Fast DDS default.
+// The value object keeps only the policies this project sets and names no
+// middleware: it is the one description of a preset, which each middleware
+// reads in its own terms (fastdds_qos.hpp for Fast DDS, cyclone_qos.hpp for
+// Cyclone DDS). Nothing here may include a vendor header, so that code
+// choosing QoS need not see the middleware (qos.neutral_headers_see_no_fast_dds).
 #pragma once
 
 #include <chrono>
 #include <cstdint>
-#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
-#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
-#include <fastdds/dds/topic/qos/TopicQos.hpp>
 #include <optional>
 
 namespace mtc::qos {
@@ -67,10 +65,6 @@ class EndpointQos {
     return reader_max_instances_ > 0 ? reader_max_instances_ : max_instances_;
   }
 
-  eprosima::fastdds::dds::DataWriterQos writer_qos() const;
-  eprosima::fastdds::dds::DataReaderQos reader_qos() const;
-  eprosima::fastdds::dds::TopicQos topic_qos() const;
-
  private:
   Reliability reliability_ = Reliability::Reliable;
   Durability durability_ = Durability::Volatile;
@@ -86,10 +80,5 @@ class EndpointQos {
   std::int32_t reader_depth_ = 0;
   std::int32_t reader_max_instances_ = 0;
 };
-
-// Converts a std::chrono duration to a DDS Duration_t (infinite stays out:
-// callers pass only finite periods).
-eprosima::fastrtps::Duration_t to_duration(std::chrono::nanoseconds d) noexcept;
-std::chrono::nanoseconds to_chrono(const eprosima::fastrtps::Duration_t& d) noexcept;
 
 }  // namespace mtc::qos

@@ -15,6 +15,7 @@
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
+#include "mtc/qos/fastdds_qos.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds::detail {
@@ -28,9 +29,9 @@ class HeartbeatWriter {
     auto type = idl::type_support<idl::HeartbeatPubSubType>();
     participant.register_type(type);
     topic_ = std::make_unique<Topic>(participant, topics::kHeartbeat, type.get_type_name(),
-                                     qos::heartbeat_topic(timing).topic_qos());
+                                     qos::fastdds_topic_qos(qos::heartbeat_topic(timing)));
     writer_ = std::make_unique<Writer<idl::Heartbeat>>(
-        publisher, *topic_, qos::heartbeat_topic(timing).writer_qos(), listener_);
+        publisher, *topic_, qos::fastdds_writer_qos(qos::heartbeat_topic(timing)), listener_);
     sample_.device_uuid(device_uuid);
     sample_.group(group);
     sample_.period_ms(static_cast<std::uint32_t>(timing.heartbeat.count()));

@@ -1,8 +1,9 @@
-// The Cyclone DDS side of endpoint_qos.hpp: the project's QoS presets as
-// Cyclone DDS 0.10 (C API) dds_qos_t, policy for policy what writer_qos(),
-// reader_qos() and topic_qos() give Fast DDS, so that one preset means the
-// same contract whichever middleware an equipment runs on. The interop tests
-// (tests/interop) read the effective policies back from both and compare.
+// The Cyclone DDS reading of endpoint_qos.hpp: the project's QoS presets as
+// Cyclone DDS 0.10 (C API) dds_qos_t, policy for policy what
+// fastdds_writer_qos() etc. (fastdds_qos.hpp) give Fast DDS, so that one
+// preset means the same contract whichever middleware an equipment runs on.
+// The interop tests (tests/interop) read the effective policies back from
+// both and compare. Includes no Fast DDS header.
 //
 // What has no per-endpoint counterpart in Cyclone:
 // - reliable_heartbeat: Cyclone's writer HEARTBEAT period is a domain setting
