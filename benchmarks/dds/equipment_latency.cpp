@@ -23,8 +23,8 @@
 #include <future>
 #include <iostream>
 #include <mutex>
-#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "mtc/bench/peer_process.hpp"
 #include "mtc/bench/proc_cpu.hpp"
@@ -249,21 +249,17 @@ std::string transport_name(qos::Transport t) {
 }
 
 pid_t spawn_peer(int domain, qos::Transport t, int round) {
-  const std::string dom = std::to_string(domain);
-  const std::string round_text = std::to_string(round);
-  const char* transport = t == qos::Transport::LoopbackUdp ? "udp" : "shm";
-  const pid_t pid = fork();
-  if (pid < 0) {
-    throw std::runtime_error("fork failed");
+  std::vector<std::string> args = {"--equipment-peer",
+                                   "--transport",
+                                   t == qos::Transport::LoopbackUdp ? "udp" : "shm",
+                                   "--domain",
+                                   std::to_string(domain),
+                                   "--round",
+                                   std::to_string(round)};
+  if (g_inline_steps) {
+    args.emplace_back("--inline-steps");
   }
-  if (pid == 0) {
-    execl("/proc/self/exe", "mtc-bench-dds-latency", "--equipment-peer", "--transport", transport,
-          "--domain", dom.c_str(), "--round", round_text.c_str(),
-          g_inline_steps ? "--inline-steps" : static_cast<char*>(nullptr),
-          static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
+  return exec_self("mtc-bench-dds-latency", args);
 }
 
 void stop_peer(pid_t pid) {

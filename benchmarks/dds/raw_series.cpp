@@ -27,6 +27,7 @@ constexpr milliseconds kMatchTimeout{10000};
 // How long a child may take to start and to tear its participants down.
 constexpr std::chrono::seconds kChildOverhead{30};
 constexpr std::chrono::seconds kStopGrace{5};
+constexpr const char* kArgv0 = "mtc-bench-dds-latency";  // the children's argv[0]
 
 std::atomic<bool> g_peer_stop{false};
 
@@ -45,31 +46,6 @@ PingPongOptions pingpong_options(const RawSeriesOptions& o, Transport t, int dom
   po.listener = listener;
   po.echo_limit = o.peer_quits_after;
   return po;
-}
-
-// Runs this executable again with `args` (fork + exec: a forked copy of a
-// process that already runs Fast DDS threads would be unsafe); its stdout
-// goes to `stdout_fd` when that is not -1.
-pid_t exec_self(const std::vector<std::string>& args, int stdout_fd = -1) {
-  std::vector<char*> argv;
-  argv.reserve(args.size() + 2);
-  argv.push_back(const_cast<char*>("mtc-bench-dds-latency"));
-  for (const auto& a : args) {
-    argv.push_back(const_cast<char*>(a.c_str()));
-  }
-  argv.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    throw std::runtime_error("fork failed");
-  }
-  if (pid == 0) {
-    if (stdout_fd >= 0 && dup2(stdout_fd, STDOUT_FILENO) < 0) {
-      _exit(127);
-    }
-    execv("/proc/self/exe", argv.data());
-    _exit(127);
-  }
-  return pid;
 }
 
 std::vector<std::string> child_args(const RawSeriesOptions& o, const char* role, Transport t,
@@ -152,7 +128,7 @@ Series run_both_ends_in_child(const RawSeriesOptions& o, Transport t, int domain
   if (pipe2(fds, O_CLOEXEC) != 0) {
     throw std::runtime_error("pipe failed");
   }
-  const pid_t pid = exec_self(child_args(o, "--both-ends", t, domain), fds[1]);
+  const pid_t pid = exec_self(kArgv0, child_args(o, "--both-ends", t, domain), fds[1]);
   close(fds[1]);
   const auto deadline =
       Clock::now() + kMatchTimeout + kChildOverhead + (o.warmup + o.samples) * o.reply_timeout;
@@ -183,7 +159,7 @@ Series run_against_peer(const RawSeriesOptions& o, Transport t, int domain, bool
     args.emplace_back("--listener");
   }
   PingPongOptions po = pingpong_options(o, t, domain, listener);
-  po.peer = exec_self(args);
+  po.peer = exec_self(kArgv0, args);
   Series s;
   try {
     s = run_pinger(po, kMatchTimeout);

@@ -5,7 +5,6 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
-#include <stdexcept>
 #include <thread>
 
 #include "mtc/bench/peer_process.hpp"
@@ -115,19 +114,9 @@ int run_peer(int devices, int interfaces, int domain) {
 }
 
 pid_t spawn_peer(int devices, int interfaces, int domain) {
-  const std::string d = std::to_string(devices);
-  const std::string i = std::to_string(interfaces);
-  const std::string dom = std::to_string(domain);
-  const pid_t pid = fork();
-  if (pid < 0) {
-    throw std::runtime_error("fork failed");
-  }
-  if (pid == 0) {
-    execl("/proc/self/exe", "mtc-bench-scale", "--peer", "--devices", d.c_str(), "--interfaces",
-          i.c_str(), "--domain", dom.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
+  return exec_self("mtc-bench-scale",
+                   {"--peer", "--devices", std::to_string(devices), "--interfaces",
+                    std::to_string(interfaces), "--domain", std::to_string(domain)});
 }
 
 void stop_peer(pid_t pid) {

@@ -1,6 +1,7 @@
-// The life of a benchmark's forked peer process, from both sides: the peer
-// blocks its stop signals and waits for one; the benchmark stops and reaps
-// it without ever waiting forever for a peer that will not go.
+// The life of a benchmark's forked peer process, from both sides: the
+// benchmark starts it (this executable again), the peer blocks its stop
+// signals and waits for one; the benchmark stops and reaps it without ever
+// waiting forever for a peer that will not go.
 #pragma once
 
 #include <poll.h>
@@ -13,8 +14,37 @@
 #include <cerrno>
 #include <chrono>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace mtc::bench {
+
+// Runs this executable again as `argv0` with `args` (fork, then exec at
+// once: a forked copy of a process that already runs Fast DDS threads is
+// unsafe, an exec'd one starts clean); its stdout goes to `stdout_fd` when
+// that is not -1. Throws when fork fails; the child exits 127 when exec does.
+inline pid_t exec_self(const char* argv0, const std::vector<std::string>& args,
+                       int stdout_fd = -1) {
+  std::vector<char*> argv;
+  argv.reserve(args.size() + 2);
+  argv.push_back(const_cast<char*>(argv0));
+  for (const auto& a : args) {
+    argv.push_back(const_cast<char*>(a.c_str()));
+  }
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) {
+    throw std::runtime_error("fork failed");
+  }
+  if (pid == 0) {
+    if (stdout_fd >= 0 && dup2(stdout_fd, STDOUT_FILENO) < 0) {
+      _exit(127);
+    }
+    execv("/proc/self/exe", argv.data());
+    _exit(127);
+  }
+  return pid;
+}
 
 // In the peer, before any thread starts (threads inherit the mask): the
 // peer gets SIGTERM when the benchmark dies, and SIGTERM and SIGINT are
