@@ -13,6 +13,7 @@
 //   78 respond --count        79 watch --duration, responder without --counterpart
 // Second range 130-139 (test_mtc_profiles.cpp): 130 profile 1.3, 131-132
 // INTERFACE_STATE DISABLED, 133 --peer pinning, 134 --peer usage errors.
+// Fourth: 140 watch of a graceful end.
 // Third range 190-194 (test_mtc_hostile_peer.cpp): hostile peers.
 #pragma once
 
