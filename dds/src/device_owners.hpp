@@ -28,7 +28,7 @@
 #include <utility>
 #include <vector>
 
-#include "domain_tap.hpp"
+#include "mw/tap_events.hpp"
 
 namespace mtc::dds::detail {
 

@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "device_owners.hpp"
-#include "domain_tap.hpp"
 #include "executor.hpp"
-#include "mtc/dds/detail/entities.hpp"
-#include "mtc/dds/detail/topics.hpp"
-#include "mtc/qos/participant_qos.hpp"
+#include "mtc/dds/detail/topic_names.hpp"
+#include "mtc/dds/error.hpp"
+#include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
+#include "mw/middleware.hpp"
 #include "peer_checks.hpp"
 #include "peer_groups.hpp"
 #include "reannounce.hpp"
@@ -24,7 +24,6 @@ namespace mtc::dds {
 
 namespace topics = detail::topics;
 using detail::Handle;
-using detail::Participant;
 using detail::TopicKind;
 
 namespace {
@@ -77,9 +76,8 @@ struct DomainObserver::Impl {
 
   // Declared last: destroyed first, so no listener outlives what it uses.
   detail::Executor executor;
-  std::unique_ptr<Participant> participant;
-  std::unique_ptr<detail::TopicSet> topics;
-  std::unique_ptr<detail::DomainTap> tap;
+  std::unique_ptr<mw::Participant> participant;
+  std::unique_ptr<mw::Tap> tap;
 
   bool wanted(const std::string& device) const {
     const auto& f = options.device_filter;
@@ -428,19 +426,16 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   pc.transport = options.transport;
   pc.timing = options.timing;
   pc.security_dir = options.security_dir;
-  detail::deliver_through_transports();
-  impl->participant = std::make_unique<Participant>(options.domain_id, detail::checked_qos(pc));
-  impl->topics = std::make_unique<detail::TopicSet>(*impl->participant, options.timing);
+  impl->participant = mw::make_fastdds_participant(options.domain_id, pc);
   detail::TapConfig tc;
   tc.partitions = {"*"};
   tc.timing = options.timing;
   tc.observer = true;
-  impl->tap = std::make_unique<detail::DomainTap>(
-      *impl->participant, *impl->topics, tc, [impl](detail::TapEvent&& event) {
-        impl->executor.post([impl, ev = std::move(event)]() mutable {
-          std::visit([impl](auto& e) { impl->handle(e); }, ev);
-        });
-      });
+  impl->tap = impl->participant->tap(tc, [impl](detail::TapEvent&& event) {
+    impl->executor.post([impl, ev = std::move(event)]() mutable {
+      std::visit([impl](auto& e) { impl->handle(e); }, ev);
+    });
+  });
   // Posted: the executor reads the tap from then on.
   impl->executor.post([impl, lease = options.timing.participant_lease] {
     impl->reannounce.arm(detail::Executor::Clock::now(), lease);
@@ -458,7 +453,6 @@ DomainObserver::~DomainObserver() {
   done.wait();
   // Stop DDS first so nothing new is queued, then drain the dispatch thread.
   impl_->tap.reset();
-  impl_->topics.reset();
   impl_->participant.reset();
   impl_->executor.stop();
 }

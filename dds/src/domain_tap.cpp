@@ -205,14 +205,6 @@ void deliver_through_transports() {
   qos::set_intraprocess_delivery(false);
 }
 
-// A publication handle is the writer's GUID: 12 bytes of participant prefix,
-// then 4 of entity id.
-ParticipantKey participant_of(const Handle& writer) noexcept {
-  ParticipantKey out{};
-  std::memcpy(out.data(), writer.data(), out.size());
-  return out;
-}
-
 ObservedDevice to_observed(const idl::DeviceDescription& d) {
   ObservedDevice out;
   out.device_uuid = d.device_uuid().to_string();
@@ -244,48 +236,15 @@ ObservedValue decode_sample(const idl::DoorStateSample& sample) {
 ObservedValue decode_sample(const idl::ChuckStateSample& sample) {
   return observe(sample);
 }
+ObservedHeartbeat decode_sample(const idl::Heartbeat& sample) {
+  return observe(sample);
+}
 ObservedDevice decode_sample(const idl::DeviceDescription& sample) {
   return to_observed(sample);
 }
 bool on_its_interaction_topic(const ObservedValue& value, std::size_t topic) {
   return !value.service || !value.sub_type ||
          interaction_index(*value.sub_type, *value.service) == topic;
-}
-
-const char* topic_name(TopicKind kind) noexcept {
-  switch (kind) {
-    case TopicKind::Request:
-      return "mtc/InteractionRequest/*";
-    case TopicKind::Response:
-      return "mtc/InteractionResponse/*";
-    case TopicKind::InterfaceState:
-      return topics::kInterfaceState;
-    case TopicKind::DoorState:
-      return topics::kDoorState;
-    case TopicKind::ChuckState:
-      return topics::kChuckState;
-    case TopicKind::DeviceDescription:
-      return topics::kDeviceDescription;
-    case TopicKind::Heartbeat:
-      return topics::kHeartbeat;
-  }
-  return "";
-}
-
-std::string interaction_topic_name(std::size_t index) {
-  return topics::interaction_topic(interaction_side(index) == TopicKind::Request
-                                       ? core::SubType::Request
-                                       : core::SubType::Response,
-                                   interaction_service(index));
-}
-
-std::string protocol_violation(const ProtocolViolationEvent& e) {
-  const auto& v = e.value;
-  const std::string service = v.service ? std::string(core::to_string(*v.service)) : "?";
-  const std::string side = v.sub_type ? std::string(core::to_string(*v.sub_type)) : "?";
-  return "protocol violation: device " + v.device_uuid + " wrote " + v.data_item_id + " (" +
-         service + " " + side + ") on topic " + interaction_topic_name(e.topic) +
-         ", which carries only that topic's service and side; sample ignored";
 }
 
 namespace {

@@ -6,12 +6,11 @@
 #include <string>
 #include <string_view>
 
-#include "domain_tap.hpp"
 #include "mtc/core/preconditions.hpp"
 #include "mtc/core/vocabulary.hpp"
-#include "mtc/dds/detail/topics.hpp"
+#include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/dds/equipment.hpp"
-#include "mtc/idl/mtconnect_interfaces.h"
+#include "mw/wire.hpp"
 
 namespace mtc::dds::detail {
 
@@ -20,7 +19,6 @@ struct DoorChuck;
 
 template <>
 struct DoorChuck<core::DoorState> {
-  using Sample = idl::DoorStateSample;
   static constexpr TopicKind kTopic = TopicKind::DoorState;
   static constexpr std::string_view kItemType = "DOOR_STATE";
   static std::string item_id(std::string_view interface_id) {
@@ -35,7 +33,6 @@ struct DoorChuck<core::DoorState> {
 
 template <>
 struct DoorChuck<core::ChuckState> {
-  using Sample = idl::ChuckStateSample;
   static constexpr TopicKind kTopic = TopicKind::ChuckState;
   static constexpr std::string_view kItemType = "CHUCK_STATE";
   static std::string item_id(std::string_view interface_id) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "equipment_impl.hpp"
-#include "mtc/dds/detail/topics.hpp"
+#include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 

@@ -7,7 +7,7 @@
 #include <algorithm>
 
 #include "equipment_impl.hpp"
-#include "mtc/dds/detail/topics.hpp"
+#include "mtc/dds/detail/topic_names.hpp"
 
 namespace mtc::dds {
 

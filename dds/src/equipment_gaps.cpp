@@ -5,9 +5,7 @@
 // as answers. And scenario 6 is symmetric: when our own heartbeats stopped
 // long enough for the counterpart to declare us lost, we take it for lost
 // as well.
-#include <algorithm>
 #include <chrono>
-#include <iterator>
 #include <string>
 
 #include "equipment_impl.hpp"
@@ -24,8 +22,7 @@ bool EquipmentImpl::written_for_predecessor(const InterfaceSlot& itf, const Obse
     return false;
   }
   if (!participant) return false;
-  const auto& self = participant->get().guid().guidPrefix.value;
-  return !std::equal(paired.begin(), paired.end(), std::begin(self));
+  return paired != self;
 }
 
 void EquipmentImpl::check_own_silence() {

@@ -15,14 +15,12 @@
 #include <vector>
 
 #include "device_owners.hpp"
-#include "domain_tap.hpp"
 #include "door_chuck.hpp"
 #include "executor.hpp"
 #include "heartbeat_thread.hpp"
-#include "mtc/dds/detail/entities.hpp"
-#include "mtc/dds/detail/topics.hpp"
+#include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/dds/equipment.hpp"
-#include "mtc/idl/mtconnect_interfaces.h"
+#include "mw/middleware.hpp"
 #include "peer_checks.hpp"
 #include "peer_groups.hpp"
 #include "reannounce.hpp"
@@ -30,11 +28,7 @@
 namespace mtc::dds {
 
 // The runtime's internals by their short names.
-namespace fdds = eprosima::fastdds::dds;
 namespace topics = detail::topics;
-using detail::Participant;
-using detail::Publisher;
-using detail::Writer;
 
 using SteadyClock = std::chrono::steady_clock;
 
@@ -88,14 +82,14 @@ struct DoorChuckItem {
 // when one of its interfaces publishes them) and its change counter.
 template <typename State>
 struct DoorChuckWriter {
-  std::unique_ptr<Writer<typename detail::DoorChuck<State>::Sample>> writer;
+  std::unique_ptr<mw::ValueWriter> writer;
   std::uint64_t seq = 0;
 };
 
 // The writer of one interaction topic (service and side) and its change
 // counter: the sequence_number of its samples, announced by the heartbeat.
 struct InteractionWriter {
-  std::unique_ptr<Writer<idl::InteractionSample>> writer;
+  std::unique_ptr<mw::ValueWriter> writer;
   std::uint64_t seq = 0;
 };
 
@@ -108,17 +102,18 @@ struct TimingGroup {
   qos::Timing timing;
   // Indexed by detail::interaction_index; only those its interfaces use.
   std::array<InteractionWriter, detail::kInteractionTopicCount> interaction;
-  std::unique_ptr<Writer<idl::InterfaceStateSample>> interface_writer;
+  std::unique_ptr<mw::ValueWriter> interface_writer;
   std::tuple<DoorChuckWriter<core::DoorState>, DoorChuckWriter<core::ChuckState>> door_chuck;
-  std::unique_ptr<Writer<idl::Heartbeat>> heartbeat_writer;
+  std::unique_ptr<mw::HeartbeatWriter> heartbeat_writer;
   std::uint64_t interface_seq = 0;
   // Change numbers already written, per state topic and per interaction
   // topic: what the heartbeat announces (written on the executor, read by
   // the heartbeat thread).
   std::array<std::atomic<std::uint64_t>, detail::kStateTopicCount> written{};
   std::array<std::atomic<std::uint64_t>, detail::kInteractionTopicCount> interaction_written{};
-  std::uint64_t beats = 0;  // heartbeat thread only
-  std::unique_ptr<detail::DomainTap> tap;
+  std::uint64_t beats = 0;          // heartbeat thread only
+  ObservedHeartbeat out_heartbeat;  // heartbeat thread only: reused, so a beat allocates little
+  std::unique_ptr<mw::Tap> tap;
   std::array<bool, detail::kTopicKindCount> incompatible_reported{};
 
   template <typename State>
@@ -202,14 +197,12 @@ struct EquipmentImpl {
 
   // DDS entities, declaration order = creation order (destroyed in reverse).
   detail::Executor executor;
-  std::unique_ptr<Participant> participant;
+  std::unique_ptr<mw::Participant> participant;
+  detail::ParticipantKey self{};  // participant->key()
   // Per timing group: the beginning of the last own silence acted upon.
   std::vector<detail::HeartbeatThread::Clock::time_point> own_silence_handled;
-  std::unique_ptr<detail::TopicSet> topics;
-  std::unique_ptr<Publisher> publisher;
-  struct QuietWriterListener : fdds::DataWriterListener {};
-  QuietWriterListener writer_listener;
-  std::unique_ptr<Writer<idl::DeviceDescription>> description_writer;
+  std::unique_ptr<mw::Publisher> publisher;
+  std::unique_ptr<mw::DeviceWriter> description_writer;
   std::vector<std::unique_ptr<TimingGroup>> groups;
   std::unique_ptr<detail::HeartbeatThread> heartbeat_thread;  // after the writers it uses
 
@@ -229,6 +222,9 @@ struct EquipmentImpl {
   std::future<void> set_door_chuck(const std::string& interface_id, State state);
 
   // --- publishing (equipment_publish.cpp) ---
+  // The value being written (executor thread; reused, so its strings keep
+  // their capacity and a write allocates nothing of ours).
+  ObservedValue out_value;
   // Each writes a change (state topics carry nothing else).
   void publish_interaction(ServiceSlot& slot, std::int64_t now_ns);
   void publish_interface_state(InterfaceSlot& itf, std::int64_t now_ns);

@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "equipment_impl.hpp"
-#include "mtc/dds/detail/topics.hpp"
+#include "mtc/dds/detail/topic_names.hpp"
 
 namespace mtc::dds {
 

@@ -6,9 +6,8 @@
 #include <variant>
 
 #include "equipment_impl.hpp"
-#include "mtc/dds/detail/topics.hpp"
-#include "mtc/qos/fastdds_qos.hpp"
-#include "mtc/qos/participant_qos.hpp"
+#include "mtc/dds/detail/topic_names.hpp"
+#include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
 
 namespace mtc::dds {
@@ -51,15 +50,20 @@ detail::TapConfig tap_config(const EquipmentImpl& impl, std::size_t g) {
   return tc;
 }
 
-template <typename Sample>
-void fill_common(Sample& s, const std::string& device, const std::string& interface_id,
+// One of our items' values as written: `out` is reused (EquipmentImpl::
+// out_value), its strings keep their capacity.
+void fill_common(ObservedValue& out, const std::string& device, const std::string& interface_id,
                  std::size_t group, const PublishedItem& item, std::uint64_t seq) {
-  s.device_uuid(device);
-  s.data_item_id(item.id);
-  s.interface_id(interface_id);
-  s.sequence_number(seq);
-  s.heartbeat_group(static_cast<std::uint32_t>(group));
-  s.source_time_ns(item.changed_ns);
+  out.device_uuid = device;
+  out.data_item_id = item.id;
+  out.interface_id = interface_id;
+  out.service.reset();
+  out.sub_type.reset();
+  out.sequence_number = seq;
+  out.heartbeat_group = static_cast<std::uint32_t>(group);
+  out.source_time_ns = item.changed_ns;
+  out.paired_device_uuid.clear();
+  out.paired_interface_id.clear();
 }
 
 // A change bumps the writer's sequence number and stamps the item.
@@ -92,21 +96,19 @@ bool same_timing(const qos::Timing& a, const qos::Timing& b) {
 // services it requests and provides (however many interfaces use them).
 void EquipmentImpl::create_group(std::size_t index) {
   auto& g = *groups[index];
-  const auto wq = qos::fastdds_writer_qos(qos::state_topic(g.timing));
+  const auto wq = qos::state_topic(g.timing);
   for (const auto& itf : interfaces) {
     if (itf->group != index) continue;
     for (auto i : itf->services) {
       auto& w = g.interaction[slots[i]->topic];
       if (w.writer) continue;
-      w.writer = std::make_unique<Writer<idl::InteractionSample>>(
-          *publisher, topics->interaction(slots[i]->topic), wq, writer_listener);
+      w.writer =
+          publisher->value_writer(detail::interaction_side(slots[i]->topic), slots[i]->topic, wq);
     }
   }
-  g.heartbeat_writer = std::make_unique<Writer<idl::Heartbeat>>(
-      *publisher, topics->get(TopicKind::Heartbeat),
-      qos::fastdds_writer_qos(qos::heartbeat_topic(g.timing)), writer_listener);
-  g.interface_writer = std::make_unique<Writer<idl::InterfaceStateSample>>(
-      *publisher, topics->get(TopicKind::InterfaceState), wq, writer_listener);
+  g.heartbeat_writer = publisher->heartbeat_writer(qos::heartbeat_topic(g.timing));
+  g.interface_writer =
+      publisher->value_writer(TopicKind::InterfaceState, detail::kInteractionTopicCount, wq);
   detail::for_door_and_chuck([&](auto tag) {
     using State = typename decltype(tag)::type;
     using Traits = detail::DoorChuck<State>;
@@ -115,8 +117,7 @@ void EquipmentImpl::create_group(std::size_t index) {
     });
     if (needed) {
       g.template door_chuck_writer<State>().writer =
-          std::make_unique<Writer<typename Traits::Sample>>(*publisher, topics->get(Traits::kTopic),
-                                                            wq, writer_listener);
+          publisher->value_writer(Traits::kTopic, detail::kInteractionTopicCount, wq);
     }
   });
 }
@@ -146,17 +147,13 @@ void EquipmentImpl::create_entities() {
   pc.faults = options.faults;
   pc.timing = t;
   pc.security_dir = options.security_dir;
-  detail::deliver_through_transports();
-  participant = std::make_unique<Participant>(options.domain_id, detail::checked_qos(pc));
-  topics = std::make_unique<detail::TopicSet>(*participant, t);
-  publisher = std::make_unique<Publisher>(
-      *participant, std::vector<std::string>{topics::device_partition(options.device_uuid)});
+  participant = mw::make_fastdds_participant(options.domain_id, pc);
+  self = participant->key();
+  publisher = participant->publisher({topics::device_partition(options.device_uuid)});
   group_by_timing();
   for (std::size_t g = 0; g < groups.size(); ++g) create_group(g);
   peer_groups.set_read(interaction_topics_read(*this));
-  description_writer = std::make_unique<Writer<idl::DeviceDescription>>(
-      *publisher, topics->get(detail::TopicKind::DeviceDescription),
-      qos::fastdds_writer_qos(qos::device_description_topic(t)), writer_listener);
+  description_writer = publisher->device_writer(qos::device_description_topic(t));
 
   // Machines, initial states, announcement; then the executor, the
   // heartbeats and the readers.
@@ -190,8 +187,7 @@ void EquipmentImpl::create_entities() {
   // Pairing callbacks run on the executor like every other callback.
   executor.post([this] { bind_configured(); });
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    groups[g]->tap = std::make_unique<detail::DomainTap>(*participant, *topics,
-                                                         tap_config(*this, g), tap_sink(g));
+    groups[g]->tap = participant->tap(tap_config(*this, g), tap_sink(g));
   }
   // Posted: the executor reads the taps from then on.
   executor.post([this] { reannounce.arm(SteadyClock::now(), options.timing.participant_lease); });
@@ -232,31 +228,28 @@ void EquipmentImpl::write_heartbeat(std::size_t index, bool leaving) {
   const auto changes = [&g](TopicKind t) {
     return g.written[static_cast<std::size_t>(t)].load(std::memory_order_acquire);
   };
-  idl::Heartbeat h;
-  h.device_uuid(options.device_uuid);
-  h.group(static_cast<std::uint32_t>(index));
-  h.period_ms(leaving ? 0 : to_ms(g.timing.heartbeat));
-  h.lease_ms(to_ms(g.timing.lease()));
-  h.beat(++g.beats);
-  std::uint64_t request_changes = 0;
-  std::uint64_t response_changes = 0;
+  auto& h = g.out_heartbeat;
+  h.device_uuid = options.device_uuid;
+  h.group = static_cast<std::uint32_t>(index);
+  h.period_ms = leaving ? 0 : to_ms(g.timing.heartbeat);
+  h.lease_ms = to_ms(g.timing.lease());
+  h.beat = ++g.beats;
+  h.request_changes = 0;
+  h.response_changes = 0;
+  h.interaction_changes.clear();
   for (std::size_t i = 0; i < detail::kInteractionTopicCount; ++i) {
     if (!g.interaction[i].writer) continue;  // made before the heartbeats start
     const auto written = g.interaction_written[i].load(std::memory_order_acquire);
     const bool request = detail::interaction_side(i) == TopicKind::Request;
-    idl::InteractionChanges c;
-    c.service(topics::to_idl(detail::interaction_service(i)));
-    c.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
-    c.changes(written);
-    h.interaction_changes().push_back(c);
-    (request ? request_changes : response_changes) += written;
+    h.interaction_changes.push_back({detail::interaction_service(i),
+                                     request ? core::SubType::Request : core::SubType::Response,
+                                     written});
+    (request ? h.request_changes : h.response_changes) += written;
   }
-  h.request_changes(request_changes);
-  h.response_changes(response_changes);
-  h.interface_state_changes(changes(TopicKind::InterfaceState));
-  h.door_state_changes(changes(TopicKind::DoorState));
-  h.chuck_state_changes(changes(TopicKind::ChuckState));
-  h.source_time_ns(topics::realtime_ns());
+  h.interface_state_changes = changes(TopicKind::InterfaceState);
+  h.door_state_changes = changes(TopicKind::DoorState);
+  h.chuck_state_changes = changes(TopicKind::ChuckState);
+  h.source_time_ns = topics::realtime_ns();
   g.heartbeat_writer->write(h);
   heartbeats_written.fetch_add(1, std::memory_order_relaxed);
 }
@@ -294,7 +287,6 @@ void EquipmentImpl::shutdown() noexcept {
   description_writer.reset();
   groups.clear();  // writers before their publisher
   publisher.reset();
-  topics.reset();
   participant.reset();
 }
 
@@ -304,21 +296,19 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
   auto& g = group_of(itf);
   auto& w = g.interaction[slot.topic];
   touch(slot.item, w.seq, now_ns);
-  idl::InteractionSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.group, slot.item, w.seq);
-  s.service(topics::to_idl(slot.service));
-  s.sub_type(topics::to_idl(request ? core::SubType::Request : core::SubType::Response));
-  s.state(topics::to_idl(itf.model->machine(slot.service, slot.role)->state()));
+  auto& v = out_value;
+  fill_common(v, options.device_uuid, itf.config.id, itf.group, slot.item, w.seq);
+  v.service = slot.service;
+  v.sub_type = request ? core::SubType::Request : core::SubType::Response;
+  v.state = itf.model->machine(slot.service, slot.role)->state();
   {
     std::lock_guard<std::mutex> lock(binding_mutex);
-    s.paired_device_uuid(itf.cp_uuid);
-    s.paired_interface_id(itf.cp_interface);
+    v.paired_device_uuid = itf.cp_uuid;
+    v.paired_interface_id = itf.cp_interface;
   }
-  if (itf.cp_group) {
-    std::copy(itf.cp_group->participant.begin(), itf.cp_group->participant.end(),
-              s.paired_participant().begin());
-  }
-  w.writer->write(s);
+  detail::ParticipantKey paired{};
+  if (itf.cp_group) paired = itf.cp_group->participant;
+  w.writer->write(v, paired);
   wrote_interaction(g, slot.topic, w.seq);
   bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response, slot.topic);
 }
@@ -326,10 +316,10 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
 void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, std::int64_t now_ns) {
   auto& g = group_of(itf);
   touch(itf.state_item, g.interface_seq, now_ns);
-  idl::InterfaceStateSample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.group, itf.state_item, g.interface_seq);
-  s.state(topics::to_idl(itf.model->interface_state()));
-  g.interface_writer->write(s);
+  auto& v = out_value;
+  fill_common(v, options.device_uuid, itf.config.id, itf.group, itf.state_item, g.interface_seq);
+  v.state = itf.model->interface_state();
+  g.interface_writer->write(v, {});
   wrote(g, TopicKind::InterfaceState, g.interface_seq);
   bound_history(itf.group, TopicKind::InterfaceState);
 }
@@ -341,10 +331,10 @@ void EquipmentImpl::publish_door_chuck(InterfaceSlot& itf, std::int64_t now_ns) 
   auto& g = group_of(itf);
   auto& w = g.door_chuck_writer<State>();
   touch(item.item, w.seq, now_ns);
-  typename detail::DoorChuck<State>::Sample s;
-  fill_common(s, options.device_uuid, itf.config.id, itf.group, item.item, w.seq);
-  s.state(topics::to_idl(item.state));
-  w.writer->write(s);
+  auto& v = out_value;
+  fill_common(v, options.device_uuid, itf.config.id, itf.group, item.item, w.seq);
+  v.state = item.state;
+  w.writer->write(v, {});
   wrote(g, detail::DoorChuck<State>::kTopic, w.seq);
   bound_history(itf.group, detail::DoorChuck<State>::kTopic);
 }
@@ -361,46 +351,37 @@ void EquipmentImpl::publish_doors_and_chucks(InterfaceSlot& itf, std::int64_t no
 
 namespace {
 
-idl::DataItemDescription item(const std::string& id, std::string_view type,
-                              std::string_view sub_type) {
-  idl::DataItemDescription d;
-  d.id(id);
-  d.name(id);
-  d.type(std::string(type));
-  d.sub_type(std::string(sub_type));
-  d.category("EVENT");
-  return d;
+ObservedDataItem item(const std::string& id, std::string_view type, std::string_view sub_type) {
+  return {id, id, std::string(type), std::string(sub_type), "EVENT"};
 }
 
 }  // namespace
 
 void EquipmentImpl::publish_description() {
-  idl::DeviceDescription d;
-  d.device_uuid(options.device_uuid);
-  d.name(options.device_name);
+  ObservedDevice d;
+  d.device_uuid = options.device_uuid;
+  d.name = options.device_name;
   for (const auto& itf : interfaces) {
-    idl::InterfaceDescription i;
-    i.id(itf->config.id);
-    i.name(itf->config.name);
-    i.interface_type(topics::to_idl(itf->config.type));
-    i.data_items().push_back(item(itf->state_item.id, "INTERFACE_STATE", ""));
+    ObservedInterface i;
+    i.id = itf->config.id;
+    i.name = itf->config.name;
+    i.type = itf->config.type;
+    i.data_items.push_back(item(itf->state_item.id, "INTERFACE_STATE", ""));
     detail::for_door_and_chuck([&](auto tag) {
       using State = typename decltype(tag)::type;
       const auto& dc = itf->template door_chuck_item<State>();
       if (dc.published) {
-        i.data_items().push_back(item(dc.item.id, detail::DoorChuck<State>::kItemType, ""));
+        i.data_items.push_back(item(dc.item.id, detail::DoorChuck<State>::kItemType, ""));
       }
     });
     for (auto index : itf->services) {
       const auto& s = *slots[index];
-      i.data_items().push_back(item(s.item.id, core::to_string(s.service),
-                                    s.role == core::Role::Requester ? "REQUEST" : "RESPONSE"));
+      i.data_items.push_back(item(s.item.id, core::to_string(s.service),
+                                  s.role == core::Role::Requester ? "REQUEST" : "RESPONSE"));
     }
-    d.interfaces().push_back(std::move(i));
+    d.interfaces.push_back(std::move(i));
   }
-  d.sequence_number(++description_seq);
-  d.source_time_ns(topics::realtime_ns());
-  description_writer->write(d);
+  description_writer->write(d, ++description_seq, topics::realtime_ns());
 }
 
 // The leave said in data (docs/design/middleware-layer.md, section 4): Fast
@@ -429,26 +410,19 @@ void EquipmentImpl::dispose_all() noexcept {
       std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": " << e.what() << '\n';
     }
   };
+  const auto& device = options.device_uuid;
   for (auto& itf : interfaces) {
+    auto& g = group_of(*itf);
     for (auto index : itf->services) {
       auto& slot = *slots[index];
-      idl::InteractionSample s;
-      fill_common(s, options.device_uuid, itf->config.id, itf->group, slot.item, 0);
-      attempt([&] { group_of(*itf).interaction[slot.topic].writer->dispose(s); });
+      attempt([&] { g.interaction[slot.topic].writer->dispose(device, slot.item.id); });
     }
-    idl::InterfaceStateSample s;
-    fill_common(s, options.device_uuid, itf->config.id, itf->group, itf->state_item, 0);
-    attempt([&] { group_of(*itf).interface_writer->dispose(s); });
+    attempt([&] { g.interface_writer->dispose(device, itf->state_item.id); });
   }
   for (std::size_t g = 0; g < groups.size(); ++g) {
-    idl::Heartbeat h;
-    h.device_uuid(options.device_uuid);
-    h.group(static_cast<std::uint32_t>(g));
-    attempt([&] { groups[g]->heartbeat_writer->dispose(h); });
+    attempt([&] { groups[g]->heartbeat_writer->dispose(device, static_cast<std::uint32_t>(g)); });
   }
-  idl::DeviceDescription d;
-  d.device_uuid(options.device_uuid);
-  attempt([&] { description_writer->dispose(d); });
+  attempt([&] { description_writer->dispose(device); });
 }
 
 // A peer takes our leave from the leaving heartbeats or the disposals, and
@@ -463,9 +437,8 @@ void EquipmentImpl::dispose_all() noexcept {
 bool EquipmentImpl::await_acknowledgments(SteadyClock::time_point deadline) noexcept {
   if (!publisher) return true;
   const auto left = std::max(deadline - SteadyClock::now(), SteadyClock::duration::zero());
-  const eprosima::fastrtps::Duration_t bound(std::chrono::duration<double>(left).count());
-  return publisher->get().wait_for_acknowledgments(bound) ==
-         eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  return publisher->wait_for_acknowledgments(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(left));
 }
 
 }  // namespace mtc::dds

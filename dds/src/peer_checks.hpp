@@ -25,7 +25,7 @@
 #include <tuple>
 #include <utility>
 
-#include "domain_tap.hpp"
+#include "mw/tap_events.hpp"
 
 namespace mtc::dds::detail {
 

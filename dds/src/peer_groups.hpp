@@ -22,7 +22,7 @@
 #include <string>
 #include <tuple>
 
-#include "domain_tap.hpp"
+#include "mw/tap_events.hpp"
 
 namespace mtc::dds::detail {
 

@@ -19,6 +19,8 @@ core::ObservedValue decode_sample(const idl::InteractionSample& sample);
 core::ObservedValue decode_sample(const idl::InterfaceStateSample& sample);
 core::ObservedValue decode_sample(const idl::DoorStateSample& sample);
 core::ObservedValue decode_sample(const idl::ChuckStateSample& sample);
+// An entry of interaction_changes outside the vocabulary is left out.
+core::ObservedHeartbeat decode_sample(const idl::Heartbeat& sample);
 // An interface type outside the vocabulary reads MaterialHandler.
 core::ObservedDevice decode_sample(const idl::DeviceDescription& sample);
 
