@@ -37,8 +37,11 @@ ObservedValue from_c(const mtc_idl_ChuckStateSample& s);
 // `sample`; neither copied nor moved, for the pointer's sake.
 struct CycloneHeartbeat {
   CycloneHeartbeat() = default;
+  ~CycloneHeartbeat() = default;
   CycloneHeartbeat(const CycloneHeartbeat&) = delete;
   CycloneHeartbeat& operator=(const CycloneHeartbeat&) = delete;
+  CycloneHeartbeat(CycloneHeartbeat&&) = delete;
+  CycloneHeartbeat& operator=(CycloneHeartbeat&&) = delete;
   mtc_idl_Heartbeat sample{};
   std::vector<mtc_idl_InteractionChanges> changes;
 };
@@ -49,8 +52,11 @@ ObservedHeartbeat from_c(const mtc_idl_Heartbeat& s);
 // sequences point into this object.
 struct CycloneDevice {
   CycloneDevice() = default;
+  ~CycloneDevice() = default;
   CycloneDevice(const CycloneDevice&) = delete;
   CycloneDevice& operator=(const CycloneDevice&) = delete;
+  CycloneDevice(CycloneDevice&&) = delete;
+  CycloneDevice& operator=(CycloneDevice&&) = delete;
   mtc_idl_DeviceDescription sample{};
   std::vector<mtc_idl_InterfaceDescription> interfaces;
   std::vector<std::vector<mtc_idl_DataItemDescription>> data_items;
