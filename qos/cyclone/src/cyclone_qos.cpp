@@ -102,6 +102,10 @@ std::string cyclone_loopback_config(const Timing& timing) {
   // the well-known unicast discovery ports of the first 32 participant
   // indices on 127.0.0.1 and listens on one of them, which is what Fast DDS's
   // loopback transports do too, so the two find each other without multicast.
+  // GenerateKeyhash: Fast DDS 2.9 takes a deleted endpoint's SEDP disposal
+  // by its key hash alone; without one, a Fast DDS reader never unmatches a
+  // Cyclone writer deleted while its participant lives
+  // (Mw/Backends.ADeletedWriterIsReportedUnmatched/CycloneToFastDds).
   return "<CycloneDDS><Domain Id=\"any\">"
          "<General><Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
          "<AllowMulticast>false</AllowMulticast></General>"
@@ -112,7 +116,7 @@ std::string cyclone_loopback_config(const Timing& timing) {
          ms(timing.participant_lease) + "</LeaseDuration><SPDPInterval>" +
          ms(timing.participant_announcement) +
          "</SPDPInterval></Discovery>"
-         "<Internal><HeartbeatInterval>" +
+         "<Internal><GenerateKeyhash>true</GenerateKeyhash><HeartbeatInterval>" +
          ms(timing.reliable_heartbeat) +
          "</HeartbeatInterval></Internal>"
          "</Domain></CycloneDDS>";

@@ -44,7 +44,8 @@ CycloneQos cyclone_partition_qos(const std::vector<std::string>& partitions);
 // dds_create_domain() take) confined to the loopback interface: unicast
 // discovery to 127.0.0.1 (Peers, participant index auto) as Fast DDS's
 // loopback transports do, no multicast, the writer HEARTBEAT period and the
-// participant lease from `timing`.
+// participant lease from `timing`, and key hashes in every message that
+// names an instance (Fast DDS 2.9 needs them to unmatch a deleted writer).
 std::string cyclone_loopback_config(const Timing& timing = {});
 
 }  // namespace mtc::qos
