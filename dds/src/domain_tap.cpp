@@ -242,11 +242,6 @@ ObservedHeartbeat decode_sample(const idl::Heartbeat& sample) {
 ObservedDevice decode_sample(const idl::DeviceDescription& sample) {
   return to_observed(sample);
 }
-bool on_its_interaction_topic(const ObservedValue& value, std::size_t topic) {
-  return !value.service || !value.sub_type ||
-         interaction_index(*value.sub_type, *value.service) == topic;
-}
-
 namespace {
 
 // Registers an IDL type (once per participant) and returns its name.

@@ -42,4 +42,9 @@ std::string protocol_violation(const ProtocolViolationEvent& e) {
          ", which carries only that topic's service and side; sample ignored";
 }
 
+bool on_its_interaction_topic(const ObservedValue& value, std::size_t topic) {
+  return !value.service || !value.sub_type ||
+         interaction_index(*value.sub_type, *value.service) == topic;
+}
+
 }  // namespace mtc::dds::detail
