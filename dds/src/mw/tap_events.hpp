@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "mtc/dds/detail/topic_rule.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/qos/timing.hpp"
 #include "wire.hpp"
@@ -99,10 +100,6 @@ const char* topic_name(TopicKind kind) noexcept;
 std::string interaction_topic_name(std::size_t index);
 // "device D wrote <item> (<SERVICE> <SIDE>) on <topic>: ...", for the owner's report.
 std::string protocol_violation(const ProtocolViolationEvent& e);
-// The topic rule every backend's tap applies (declared for the fuzz targets
-// in sample_decoding.hpp too): false when an interaction value's service and
-// sub-type name another topic than `topic` (an interaction_index).
-bool on_its_interaction_topic(const ObservedValue& value, std::size_t topic);
 
 // The one rule that turns silence into a loss: a counterpart is lost once
 // nothing was heard from it (last_heard_ns, CLOCK_REALTIME; 0 = never) for a

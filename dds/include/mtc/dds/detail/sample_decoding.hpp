@@ -8,6 +8,7 @@
 #include <cstddef>
 
 #include "mtc/core/observation.hpp"
+#include "mtc/dds/detail/topic_rule.hpp"
 #include "mtc/idl/mtconnect_interfaces.h"
 
 namespace mtc::dds::detail {
@@ -23,12 +24,5 @@ core::ObservedValue decode_sample(const idl::ChuckStateSample& sample);
 core::ObservedHeartbeat decode_sample(const idl::Heartbeat& sample);
 // An interface type outside the vocabulary reads MaterialHandler.
 core::ObservedDevice decode_sample(const idl::DeviceDescription& sample);
-
-// The tap's topic rule for a decoded interaction value that arrived on the
-// interaction topic of index `topic` (request topics first, one per service,
-// then the response topics): false when its service and sub-type name
-// another topic, and the tap refuses it. A value without a service or
-// sub-type passes here; the peer checks report and drop it.
-bool on_its_interaction_topic(const core::ObservedValue& value, std::size_t topic);
 
 }  // namespace mtc::dds::detail
