@@ -189,6 +189,12 @@ bool ChildProcess::wait_for_stderr(const std::string& needle, milliseconds timeo
   return true;
 }
 
+void ChildProcess::read_for(milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline && pump(deadline)) {
+  }
+}
+
 void ChildProcess::send_signal(int signal_number) {
   if (running()) {
     kill(pid_, signal_number);

@@ -36,6 +36,10 @@ class ChildProcess {
   // reports that have no stdout line of their own); false at the timeout or
   // once the child has closed both pipes without writing it.
   bool wait_for_stderr(const std::string& needle, milliseconds timeout);
+  // Reads what the child writes for `timeout` without consuming any line: a
+  // later wait_for_line still finds what arrived meanwhile. For keeping the
+  // pipes of a chatty child from filling while the test waits elsewhere.
+  void read_for(milliseconds timeout);
   // Every stdout line read so far.
   const std::vector<std::string>& lines() const { return out_lines_; }
 
