@@ -119,7 +119,8 @@ class TapListener final : public fdds::DataReaderListener {
         emit(sample, info);
       } else if (info.instance_state != fdds::ALIVE_INSTANCE_STATE) {
         sink_(InstanceGoneEvent{kind_, to_handle(info.instance_handle),
-                                info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE});
+                                info.instance_state == fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE,
+                                to_handle(info.publication_handle)});
       }
     }
   }

@@ -25,7 +25,8 @@ void EquipmentImpl::on_event(std::size_t group, detail::TapEvent& event) {
         } else if constexpr (std::is_same_v<T, detail::DeviceEvent>) {
           on_device(e);
         } else if constexpr (std::is_same_v<T, detail::InstanceGoneEvent>) {
-          on_gone(group, e.topic, e.instance, e.disposed ? Gone::Disposed : Gone::WithoutWriters);
+          on_gone(group, e.topic, e.instance, e.disposed ? Gone::Disposed : Gone::WithoutWriters,
+                  e.writer);
         } else if constexpr (std::is_same_v<T, detail::WriterLivelinessEvent>) {
           if (!e.alive && e.unmatched) {
             peer_checks.forget_writer(e.writer);
@@ -66,7 +67,7 @@ bool EquipmentImpl::owned_by_writer(const std::string& device, const detail::Han
 
 void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   auto& v = e.value;
-  if (v.device_uuid == options.device_uuid) return;
+  if (v.device_uuid == options.device_uuid || from_left_incarnation(e.writer)) return;
   if (!owned_by_writer(v.device_uuid, e.writer, detail::Said::Value)) {
     owners.hold(group, e);
     return;
@@ -75,7 +76,8 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   if (verdict.report) diagnostic(*verdict.report);
   if (!verdict.use) return;
   writer_device[e.writer] = v.device_uuid;
-  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id, 0};
+  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id, 0,
+                                          detail::participant_of(e.writer)};
   writer_interfaces[e.writer].insert(v.interface_id);
   peer_groups.on_value(e.writer, e.topic, v);
   // A change number that skips ahead means this writer changed something we
@@ -164,13 +166,14 @@ void EquipmentImpl::deliver(InterfaceSlot& itf, const ObservedValue& v, bool mis
 // stale, and the change that replaces it is on its way.
 void EquipmentImpl::on_heartbeat(std::size_t group, detail::HeartbeatEvent& e) {
   const auto& h = e.heartbeat;
-  if (h.device_uuid == options.device_uuid) return;
+  if (h.device_uuid == options.device_uuid || from_left_incarnation(e.writer)) return;
   if (!owned_by_writer(h.device_uuid, e.writer, detail::Said::Heartbeat)) return;
-  instance_item[{TopicKind::Heartbeat, e.instance}] = {h.device_uuid, "", "", h.group};
+  instance_item[{TopicKind::Heartbeat, e.instance}] = {h.device_uuid, "", "", h.group,
+                                                       detail::participant_of(e.writer)};
   // Its last heartbeat: the disposal that follows may never reach us. Not
   // kept as the group's newest, whose period rules the silence checks.
   if (detail::says_leaving(h)) {
-    on_gone(group, TopicKind::Heartbeat, e.instance, Gone::Leaving);
+    on_gone(group, TopicKind::Heartbeat, e.instance, Gone::Leaving, e.writer);
     return;
   }
   auto& pg = peer_groups.on_heartbeat(e.writer, h);
@@ -325,13 +328,21 @@ void EquipmentImpl::check_silence() {
 // then disposals) is told once: link_lost and unpairing act on an Up or
 // paired interface only.
 void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Handle& instance,
-                            Gone how) {
+                            Gone how, const detail::Handle& writer) {
   const char* cause = how == Gone::Disposed  ? "disposed"
                       : how == Gone::Leaving ? "leaving"
                                              : "without writers";
+  if (from_left_incarnation(writer)) return;
   const auto it = instance_item.find({topic, instance});
   if (it == instance_item.end()) return;
+  // An earlier incarnation's last word, late (a Cyclone writer lingers to
+  // deliver its disposals after its participant is gone): the instance is
+  // its successor's now.
+  if (writer != detail::Handle{} && detail::participant_of(writer) != it->second.participant) {
+    return;
+  }
   const auto owner = it->second;
+  if (how != Gone::WithoutWriters) remember_left(writer);
   for (auto& itf : interfaces) {
     if (itf->cp_uuid != owner.device) continue;
     // A device announcement concerns every interface; items only their group.
@@ -358,6 +369,17 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
   }
   if (topic == TopicKind::DeviceDescription) {
     if (auto held = owners.release_device(owner.device)) on_device(*held);
+  }
+}
+
+void EquipmentImpl::remember_left(const detail::Handle& writer) {
+  if (writer == detail::Handle{}) return;
+  constexpr std::size_t kRemembered = 256;
+  if (!left_incarnations.insert(detail::participant_of(writer)).second) return;
+  left_order.push_back(detail::participant_of(writer));
+  if (left_order.size() > kRemembered) {
+    left_incarnations.erase(left_order.front());
+    left_order.pop_front();
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <atomic>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -171,11 +172,23 @@ struct EquipmentImpl {
     std::string device;
     std::string interface_id;
     std::string item;
-    std::uint32_t group = 0;  // heartbeat instances
+    std::uint32_t group = 0;               // heartbeat instances
+    detail::ParticipantKey participant{};  // the incarnation that last wrote it
   };
   std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
   std::set<detail::Handle> description_writers;
   detail::DeviceOwners owners;  // who announced each counterpart device
+  // Incarnations (participants) that said they are leaving: whatever of
+  // theirs arrives later (a value or disposal that crossed the leave on
+  // another topic, a lingering writer's disposal) is not news. Bounded:
+  // the oldest are forgotten first.
+  std::set<detail::ParticipantKey> left_incarnations;
+  std::deque<detail::ParticipantKey> left_order;
+  bool from_left_incarnation(const detail::Handle& writer) const {
+    return writer != detail::Handle{} &&
+           left_incarnations.count(detail::participant_of(writer)) != 0;
+  }
+  void remember_left(const detail::Handle& writer);
   std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
   // Last change number per (timing group whose tap saw it, writer).
   std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
@@ -283,8 +296,9 @@ struct EquipmentImpl {
   void on_device(detail::DeviceEvent& e);
   // How a counterpart's instance ended: the last two are a graceful leave.
   enum class Gone { WithoutWriters, Disposed, Leaving };
-  void on_gone(std::size_t group, detail::TopicKind topic, const detail::Handle& instance,
-               Gone how);
+  // `writer`: who ended the instance, when known (all zero: unknown).
+  void on_gone(std::size_t group, detail::TopicKind topic, const detail::Handle& instance, Gone how,
+               const detail::Handle& writer);
   void on_writer_lost(std::size_t group, const detail::Handle& writer, const char* cause,
                       bool check_silence);
   void on_deadline_missed(std::size_t group);

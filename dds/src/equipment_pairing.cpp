@@ -151,7 +151,8 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
     return;
   }
   writer_device[e.writer] = d.device_uuid;
-  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "", 0};
+  instance_item[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", "", 0,
+                                                               detail::participant_of(e.writer)};
   description_writers.insert(e.writer);
   for (auto& itf : interfaces) {
     const auto& spec = itf->config.counterpart;

@@ -13,6 +13,7 @@
 
 #include "mtc/dds/detail/entities.hpp"
 #include "mtc/dds/detail/heartbeat_writer.hpp"
+#include "mtc/dds/detail/return_code.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/idl/mtconnect_interfacesPubSubTypes.h"
 #include "mtc/idl/type_support.hpp"
@@ -69,6 +70,13 @@ class RawPeer {
     stop_beating();
     std::lock_guard<std::mutex> lock(mutex_);
     heartbeat_.leave();
+  }
+  // Every matched reader has acknowledged every value (Fast DDS calls a
+  // reader's listener before its acknowledgment goes out, so the value has
+  // also been handed to the reading Equipment's executor).
+  bool acknowledged(std::chrono::seconds bound) {
+    return writer_->get().wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
+               static_cast<std::int32_t>(bound.count()), 0)) == detail::ReturnCode::RETCODE_OK;
   }
   // A change of value: new change number.
   void set(core::InteractionState state) {

@@ -136,5 +136,36 @@ TEST(LeaveInData, AGracefulEndIsToldAsALeaveOnce) {
   EXPECT_EQ(seen.count(seen.lost, "robot-lv2"), 0u);
 }
 
+// What a device writes after its leave crossed it on another topic (a value
+// written before the leaving heartbeat, delivered after it; a lingering
+// writer's disposal) is not news: that incarnation has left. A new
+// incarnation under the same uuid is heard as usual, and is the fence: the
+// late value was acknowledged, so the robot had it before the newcomer's.
+TEST(LeaveInData, WhatALeftIncarnationWritesLaterIsNotNews) {
+  constexpr int kDomain = 153;
+  Recorder rec;
+  auto o = options(kDomain, "robot-lv3");
+  o.timing.missed_heartbeats = 20;
+  Equipment robot(o, rec.callbacks());
+  robot.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"cnc-lv3", "mh1"}});
+  robot.add_responder("mh1", Service::MaterialLoad, {});
+  robot.start();
+  RawPeer cnc(kDomain, "cnc-lv3", SubType::Request, Service::MaterialLoad, "robot-lv3");
+  cnc.set(InteractionState::Ready);
+  ASSERT_TRUE(rec.wait_link(robot, "mh1", LinkState::Up)) << rec.dump();
+  cnc.leave_without_disposal();
+  ASSERT_TRUE(rec.wait_link(robot, "mh1", LinkState::Lost)) << rec.dump();
+  cnc.set(InteractionState::Active);
+  ASSERT_TRUE(cnc.acknowledged(std::chrono::seconds(10))) << rec.dump();
+
+  RawPeer again(kDomain, "cnc-lv3", SubType::Request, Service::MaterialLoad, "robot-lv3");
+  again.set(InteractionState::Ready);
+  ASSERT_TRUE(rec.wait_link(robot, "mh1", LinkState::Up)) << rec.dump();
+  ASSERT_EQ(links_to(rec, LinkState::Lost).size(), 1u) << rec.dump();
+  for (const auto& t : rec.transitions()) {
+    EXPECT_NE(std::string(core::to_string(t.step.event)), "SeenActive") << rec.dump();
+  }
+}
+
 }  // namespace
 }  // namespace mtc::dds::testing

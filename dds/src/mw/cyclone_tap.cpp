@@ -75,9 +75,12 @@ class ReaderTap {
   // The GUID of a matched writer (cached); a writer Cyclone no longer knows
   // and never cached keeps its local handle, marked by a zero prefix.
   Handle writer_guid(dds_entity_t reader, dds_instance_handle_t publication);
-  void gone(const dds_sample_info_t& info) {
+  void gone(dds_entity_t reader, const dds_sample_info_t& info) {
+    const auto writer =
+        info.publication_handle == 0 ? Handle{} : writer_guid(reader, info.publication_handle);
     shared_.sink(detail::InstanceGoneEvent{kind_, instance_handle(info.instance_handle),
-                                           info.instance_state == DDS_IST_NOT_ALIVE_DISPOSED});
+                                           info.instance_state == DDS_IST_NOT_ALIVE_DISPOSED,
+                                           writer});
   }
 
   TopicKind kind_;
@@ -138,7 +141,7 @@ class TypedReaderTap final : public ReaderTap {
         if (info.valid_data) {
           emit(reader, *static_cast<const Sample*>(samples[static_cast<std::size_t>(i)]), info);
         } else if (info.instance_state != DDS_IST_ALIVE) {
-          gone(info);
+          gone(reader, info);
         }
       }
       dds_return_loan(reader, samples.data(), n);

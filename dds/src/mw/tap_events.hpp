@@ -42,6 +42,10 @@ struct InstanceGoneEvent {
   TopicKind topic{};
   Handle instance{};
   bool disposed = false;  // by its writer (a graceful leave), not for want of writers
+  // The writer that disposed it, when the middleware names one (all zero:
+  // unknown): a late disposal by an earlier incarnation of the device must
+  // not end the instance its new incarnation writes.
+  Handle writer{};
 };
 // A writer stopped asserting liveliness (or went away) / came back.
 struct WriterLivelinessEvent {
