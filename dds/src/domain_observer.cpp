@@ -426,7 +426,7 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   pc.transport = options.transport;
   pc.timing = options.timing;
   pc.security_dir = options.security_dir;
-  impl->participant = mw::make_fastdds_participant(options.domain_id, pc);
+  impl->participant = mw::make_participant(options.middleware, options.domain_id, pc);
   detail::TapConfig tc;
   tc.partitions = {"*"};
   tc.timing = options.timing;

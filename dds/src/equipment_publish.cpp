@@ -147,7 +147,7 @@ void EquipmentImpl::create_entities() {
   pc.faults = options.faults;
   pc.timing = t;
   pc.security_dir = options.security_dir;
-  participant = mw::make_fastdds_participant(options.domain_id, pc);
+  participant = mw::make_participant(options.middleware, options.domain_id, pc);
   self = participant->key();
   publisher = participant->publisher({topics::device_partition(options.device_uuid)});
   group_by_timing();

@@ -20,6 +20,7 @@
 
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/dds/error.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "mtc/qos/endpoint_qos.hpp"
 #include "mtc/qos/participant.hpp"
 #include "tap_events.hpp"
@@ -110,5 +111,10 @@ class Participant {
 // `config.timing`'s QoS.
 std::unique_ptr<Participant> make_fastdds_participant(int domain_id,
                                                       const qos::ParticipantConfig& config);
+
+// The participant of `middleware` (select.cpp): a ConfigError when this
+// build lacks it.
+std::unique_ptr<Participant> make_participant(Middleware middleware, int domain_id,
+                                              const qos::ParticipantConfig& config);
 
 }  // namespace mtc::dds::mw

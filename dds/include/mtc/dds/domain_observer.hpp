@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "mtc/core/observation.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/timing.hpp"
 
@@ -86,6 +87,9 @@ struct DomainObserverOptions {
   // Transport of the observer's participant: the network by default (as
   // EquipmentOptions::transport), qos::Transport::Loopback for this host only.
   qos::Transport transport = qos::Transport::Network;
+  // The DDS implementation that observes (mtc/dds/middleware.hpp); it sees
+  // equipment on any.
+  Middleware middleware = Middleware::FastDds;
   // DDS-Security identity of the observer (a read-only one from
   // scripts/security/make-pki.sh); empty: unsecured.
   std::string security_dir;

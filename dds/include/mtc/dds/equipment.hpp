@@ -46,6 +46,7 @@
 #include "mtc/core/vocabulary.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/dds/error.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/timing.hpp"
 
@@ -220,6 +221,9 @@ struct EquipmentOptions {
   // other hosts; qos::Transport::Loopback keeps DDS on this host.
   qos::Transport transport = qos::Transport::Network;
   qos::FaultInjection faults;  // qos::Transport::LoopbackTest only
+  // The DDS implementation (mtc/dds/middleware.hpp); equipment on different
+  // ones share a cell. Cyclone: the loopback transports, no security yet.
+  Middleware middleware = Middleware::FastDds;
   core::Profile profile = core::Profile::V1_6;
   RecoveryPolicy recovery = RecoveryPolicy::AfterCommsLoss;
   // DDS-Security identity of this device (scripts/security/make-pki.sh);

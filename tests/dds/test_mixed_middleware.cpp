@@ -1,0 +1,166 @@
+// Equipment on Cyclone DDS, alone and beside equipment on Fast DDS
+// (EquipmentOptions::middleware; issue 9 section 3): the wire contract is
+// the IDL and the QoS, so a robot and a machine complete every service,
+// report a failure and take a graceful end as a leave, whichever middleware
+// each runs on. Fast DDS with Fast DDS is what every other test runs.
+//
+// Domain 142 (registry: tests/dds/CMakeLists.txt), the cases one at a time
+// (a resource lock), each pair of middlewares in a case of its own.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <future>
+#include <string>
+#include <vector>
+
+#include "equipment_fixture.hpp"
+
+namespace mtc::dds::testing {
+namespace {
+
+using core::InterfaceType;
+using core::Reason;
+
+constexpr int kDomain = 142;
+
+struct Pair {
+  Middleware robot;
+  Middleware machine;
+};
+
+std::string name_of(const ::testing::TestParamInfo<Pair>& info) {
+  const auto n = [](Middleware m) { return m == Middleware::FastDds ? "FastDds" : "Cyclone"; };
+  return std::string("Robot") + n(info.param.robot) + "Machine" + n(info.param.machine);
+}
+
+EquipmentOptions on(Middleware m, const std::string& uuid) {
+  auto o = options(kDomain, uuid, qos::Transport::LoopbackUdp);
+  o.middleware = m;
+  return o;
+}
+
+std::vector<LinkEvent> links_to(Recorder& rec, LinkState state) {
+  std::vector<LinkEvent> out;
+  for (const auto& l : rec.links()) {
+    if (l.current == state) out.push_back(l);
+  }
+  return out;
+}
+
+class MixedCell : public ::testing::TestWithParam<Pair> {
+ protected:
+  // The robot requests, the machine responds, on one material handler.
+  std::unique_ptr<Equipment> robot() {
+    auto cb = robot_rec.callbacks();
+    // Counted apart: Recorder::wait's predicate runs under its lock.
+    cb.on_link = [this, record = cb.on_link](const LinkEvent& e) {
+      if (e.current == LinkState::Lost) robot_lost.fetch_add(1);
+      record(e);
+    };
+    auto e = std::make_unique<Equipment>(on(GetParam().robot, "robot-mx"), cb);
+    e->add_interface({"mh", InterfaceType::MaterialHandler, "", {"machine-mx", "mh"}});
+    return e;
+  }
+  std::unique_ptr<Equipment> machine() {
+    auto e =
+        std::make_unique<Equipment>(on(GetParam().machine, "machine-mx"), machine_rec.callbacks());
+    e->add_interface({"mh", InterfaceType::MaterialHandler, "", {"robot-mx", "mh"}});
+    return e;
+  }
+  std::string dump() { return "robot:\n" + robot_rec.dump() + "machine:\n" + machine_rec.dump(); }
+
+  Recorder robot_rec;
+  Recorder machine_rec;
+  std::atomic<int> robot_lost{0};  // the robot's links that became Lost
+};
+
+TEST_P(MixedCell, EveryServiceCompletes) {
+  auto m = machine();
+  auto r = robot();
+  std::vector<Requester*> requesters;
+  for (auto service : core::kAllServices) {
+    ResponderCallbacks serve;
+    serve.on_request = [](Responder& resp) { resp.complete(); };
+    m->add_responder("mh", service, serve);
+    requesters.push_back(&r->add_requester("mh", service));
+  }
+  m->start();
+  r->start();
+  RequestOptions wait;
+  wait.wait_for_ready = kTimeout;
+  std::vector<std::future<RequestResult>> results;
+  for (auto* q : requesters) results.push_back(q->request(wait));
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    SCOPED_TRACE(std::string(core::to_string(core::kAllServices[i])));
+    ASSERT_EQ(results[i].wait_for(kTimeout), std::future_status::ready) << dump();
+    const auto result = results[i].get();
+    EXPECT_EQ(result.outcome, Outcome::Completed) << core::describe(result.reason) << "\n"
+                                                  << dump();
+  }
+}
+
+// Scenario 2: the responder fails while ACTIVE; the requester is told so.
+TEST_P(MixedCell, AResponderFailureReachesTheRequester) {
+  auto m = machine();
+  auto r = robot();
+  ResponderCallbacks serve;
+  serve.on_request = [](Responder& resp) { resp.fail(); };
+  m->add_responder("mh", Service::PartChange, serve);
+  auto& change = r->add_requester("mh", Service::PartChange);
+  m->start();
+  r->start();
+  RequestOptions wait;
+  wait.wait_for_ready = kTimeout;
+  auto result = change.request(wait);
+  ASSERT_EQ(result.wait_for(kTimeout), std::future_status::ready) << dump();
+  const auto got = result.get();
+  EXPECT_EQ(got.outcome, Outcome::Failed) << dump();
+  EXPECT_EQ(got.reason, Reason::CounterpartFail) << dump();
+}
+
+// The machine ends gracefully: the robot is told a leave, once, and not a
+// comms loss (across vendors the leave travels as the leaving heartbeat:
+// Cyclone drops Fast DDS's disposals). A new machine that serves the robot
+// again is the fence: whatever the first one's end caused came before.
+TEST_P(MixedCell, AGracefulEndIsALeave) {
+  ResponderCallbacks serve;
+  serve.on_request = [](Responder& resp) { resp.complete(); };
+  auto m = machine();
+  m->add_responder("mh", Service::MaterialLoad, serve);
+  auto r = robot();
+  auto& load = r->add_requester("mh", Service::MaterialLoad);
+  m->start();
+  r->start();
+  RequestOptions wait;
+  wait.wait_for_ready = kTimeout;
+  ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed) << dump();
+  m.reset();
+  ASSERT_TRUE(robot_rec.wait([&] { return robot_lost.load() > 0; })) << dump();
+
+  auto again = machine();
+  again->add_responder("mh", Service::MaterialLoad, serve);
+  again->start();
+  ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed) << dump();
+  const auto lost = links_to(robot_rec, LinkState::Lost);
+  ASSERT_EQ(lost.size(), 1u) << dump();
+  EXPECT_EQ(lost[0].cause, "heartbeat leaving") << dump();
+}
+
+INSTANTIATE_TEST_SUITE_P(Middlewares, MixedCell,
+                         ::testing::Values(Pair{Middleware::Cyclone, Middleware::Cyclone},
+                                           Pair{Middleware::Cyclone, Middleware::FastDds},
+                                           Pair{Middleware::FastDds, Middleware::Cyclone}),
+                         name_of);
+
+// A build without the Cyclone backend says so; this one has it.
+TEST(Middleware, SpellingsRoundTripAndThisBuildHasBoth) {
+  for (const auto m : kAllMiddlewares) {
+    EXPECT_EQ(parse_middleware(to_string(m)), m);
+    EXPECT_TRUE(middleware_available(m));
+  }
+  EXPECT_FALSE(parse_middleware("Cyclone"));
+  EXPECT_FALSE(parse_middleware(""));
+}
+
+}  // namespace
+}  // namespace mtc::dds::testing
