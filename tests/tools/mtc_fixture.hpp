@@ -13,7 +13,8 @@
 //   78 respond --count        79 watch --duration, responder without --counterpart
 // Second range 130-139 (test_mtc_profiles.cpp): 130 profile 1.3, 131-132
 // INTERFACE_STATE DISABLED, 133 --peer pinning, 134 --peer usage errors.
-// Fourth: 140 watch of a graceful end.
+// Fourth: 140 watch of a graceful end; 143-144 (test_mtc_middleware.cpp) a
+// cell of processes on Cyclone DDS and on Fast DDS.
 // Third range 190-194 (test_mtc_hostile_peer.cpp): hostile peers.
 #pragma once
 

@@ -225,6 +225,7 @@ EquipmentLink::EquipmentLink(const EquipmentConfig& config, core::Role role, Eve
   options.device_name = config.device_name;
   options.timing = config.timing;
   options.transport = to_transport(config);
+  options.middleware = config.middleware;
   options.security_dir = config.common.security_dir;
   options.faults.drop_data_percent = static_cast<std::uint8_t>(config.drop_percent);
   options.profile = config.profile;

@@ -44,6 +44,28 @@ qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& com
   return *parsed;
 }
 
+// --middleware: "fastdds" (the default) or "cyclone", when this build has it.
+void add_middleware_option(CommandSpec& spec) {
+  spec.options.push_back({"middleware", "NAME",
+                          "DDS implementation: fastdds, or cyclone (loopback transports only, no "
+                          "security yet; a cell may mix the two)",
+                          "fastdds"});
+}
+
+dds::Middleware middleware_option(const ParsedArgs& args) {
+  const auto text = args.value("middleware");
+  if (!text) return dds::Middleware::FastDds;
+  const auto parsed = dds::parse_middleware(*text);
+  if (!parsed) {
+    throw UsageError("--middleware expects fastdds or cyclone, got '" + *text + "'");
+  }
+  if (!dds::middleware_available(*parsed)) {
+    throw UsageError("--middleware " + *text +
+                     ": this build has no such backend (configure with -DMTC_CYCLONE=ON)");
+  }
+  return *parsed;
+}
+
 // --heartbeat-ms / --missed-heartbeats over the qos::Timing defaults.
 void add_timing_options(CommandSpec& spec, const std::string& heartbeat_help,
                         const std::string& missed_help) {
@@ -142,6 +164,7 @@ void add_observer_options(CommandSpec& spec) {
                           "network (UDP on every interface + SHM: the cell's hosts), loopback "
                           "(UDP 127.0.0.1 + SHM: this host only), loopback-udp, test",
                           "network"});
+  add_middleware_option(spec);
   add_timing_options(spec, "heartbeat period of the watched devices",
                      "missed heartbeats before items read UNAVAILABLE (>= the devices' value, "
                      "or their items do not match)");
@@ -150,6 +173,7 @@ void add_observer_options(CommandSpec& spec) {
 ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common) {
   ObserverSettings s;
   s.transport = transport_option(args, common);
+  s.middleware = middleware_option(args);
   parse_timing_options(args, s.timing);
   return s;
 }
@@ -181,6 +205,7 @@ void add_equipment_options(CommandSpec& spec, bool many_services) {
                           "network (UDP on every interface + SHM: the cell's hosts), loopback "
                           "(UDP 127.0.0.1 + SHM: this host only), loopback-udp, test",
                           "network"});
+  add_middleware_option(spec);
   add_timing_options(spec, "heartbeat period of every data item",
                      "heartbeats missed before the peer counts as lost");
   spec.options.push_back({"fail-ack-timeout", "TIME",
@@ -222,6 +247,7 @@ EquipmentConfig parse_equipment_options(const ParsedArgs& args, bool many_servic
     c.interface_type = *parsed;
   }
   c.transport = transport_option(args, c.common);
+  c.middleware = middleware_option(args);
   parse_timing_options(args, c.timing);
   if (auto f = args.value("fail-ack-timeout")) {
     c.fail_ack_timeout = to_duration("fail-ack-timeout", *f);

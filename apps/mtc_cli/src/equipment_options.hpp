@@ -13,6 +13,7 @@
 #include "fail_injection.hpp"
 #include "mtc/core/profile.hpp"
 #include "mtc/core/vocabulary.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/timing.hpp"
 
@@ -30,7 +31,8 @@ struct EquipmentConfig {
   // first of its interfaces that complements ours).
   std::string counterpart_interface;
   qos::Transport transport = qos::Transport::Network;
-  qos::Timing timing;    // --heartbeat-ms, --missed-heartbeats
+  dds::Middleware middleware = dds::Middleware::FastDds;  // --middleware
+  qos::Timing timing;                                     // --heartbeat-ms, --missed-heartbeats
   int drop_percent = 0;  // hidden test knob: Fast DDS test transport drops DATA
   std::chrono::milliseconds fail_ack_timeout{2000};
   std::chrono::milliseconds pairing_settle{500};  // dds::EquipmentOptions::pairing_settle
@@ -63,7 +65,8 @@ void add_observer_options(CommandSpec& spec);
 // Fills transport and timing of a DomainObserverOptions-like struct.
 struct ObserverSettings {
   qos::Transport transport = qos::Transport::Network;
-  qos::Timing timing;  // --heartbeat-ms, --missed-heartbeats
+  dds::Middleware middleware = dds::Middleware::FastDds;  // --middleware
+  qos::Timing timing;                                     // --heartbeat-ms, --missed-heartbeats
 };
 ObserverSettings parse_observer_options(const ParsedArgs& args, const CommonOptions& common);
 

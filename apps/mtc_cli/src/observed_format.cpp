@@ -22,6 +22,7 @@ dds::DomainObserverOptions observer_options(const CommonOptions& common, const P
   o.domain_id = common.domain;
   o.device_filter = args.values("device");
   o.transport = s.transport;
+  o.middleware = s.middleware;
   o.timing = s.timing;
   o.security_dir = common.security_dir;
   return o;
