@@ -51,6 +51,9 @@ constexpr const char* kInterface = "mh";
 // EquipmentOptions::inline_steps for both ends (--inline-steps); set once
 // before any series or peer starts.
 bool g_inline_steps = false;
+// The middleware of both ends of the series running now (the peer is told
+// with --cyclone-equipment).
+dds::Middleware g_middleware = dds::Middleware::FastDds;
 
 dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos::Transport t) {
   dds::EquipmentOptions o;
@@ -61,6 +64,7 @@ dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos
   // itself, so one bad handshake cannot stall the run; it is counted.
   o.recovery = dds::RecoveryPolicy::Always;
   o.inline_steps = g_inline_steps;
+  o.middleware = g_middleware;
   return o;
 }
 
@@ -244,8 +248,11 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes, pid_t peer, 
   return run;
 }
 
+// The series' transport as its name spells it; Cyclone's carry the
+// middleware too ("cyclone_udp_loopback").
 std::string transport_name(qos::Transport t) {
-  return t == qos::Transport::LoopbackUdp ? "udp_loopback" : "shm_udp";
+  const std::string name = t == qos::Transport::LoopbackUdp ? "udp_loopback" : "shm_udp";
+  return g_middleware == dds::Middleware::Cyclone ? "cyclone_" + name : name;
 }
 
 pid_t spawn_peer(int domain, qos::Transport t, int round) {
@@ -258,6 +265,9 @@ pid_t spawn_peer(int domain, qos::Transport t, int round) {
                                    std::to_string(round)};
   if (g_inline_steps) {
     args.emplace_back("--inline-steps");
+  }
+  if (g_middleware == dds::Middleware::Cyclone) {
+    args.emplace_back("--cyclone-equipment");
   }
   return exec_self("mtc-bench-dds-latency", args);
 }
@@ -316,10 +326,21 @@ std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options) {
     all.push_back(std::move(run.transition));
     all.push_back(std::move(run.handshake));
   }
+  // Both ends on Cyclone DDS (issue 9 section 3's target), when built in:
+  // UDP on loopback, as Cyclone 0.10 in Debian has no shared memory.
+  if (dds::middleware_available(dds::Middleware::Cyclone)) {
+    g_middleware = dds::Middleware::Cyclone;
+    PairRun run = run_config(options.cyclone_domain_id, qos::Transport::LoopbackUdp, 2,
+                             options.handshakes, options.round);
+    g_middleware = dds::Middleware::FastDds;
+    all.push_back(std::move(run.transition));
+    all.push_back(std::move(run.handshake));
+  }
   return all;
 }
 
-int run_equipment_peer(int domain, bool udp_only, int round) {
+int run_equipment_peer(int domain, bool udp_only, int round, bool cyclone) {
+  if (cyclone) g_middleware = dds::Middleware::Cyclone;
   const sigset_t stop_signals = block_stop_signals();  // before the runtime starts threads
   auto responder = make_responder(
       domain, udp_only ? qos::Transport::LoopbackUdp : qos::Transport::Loopback, round);

@@ -13,6 +13,9 @@ namespace mtc::bench {
 
 struct EquipmentBenchOptions {
   int first_domain_id = 104;  // uses up to 4 ids from here
+  // Both ends on Cyclone DDS (MTC_CYCLONE builds), in a domain of its own:
+  // the benchmarks' range 100-119 is full.
+  int cyclone_domain_id = 189;
   int handshakes = 300;
   int round = 1;  // part of the devices' names: a new pair per round
 };
@@ -25,6 +28,6 @@ void set_inline_steps(bool on);
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options);
 
 // The forked responder of the two-process series: runs until SIGTERM.
-int run_equipment_peer(int domain, bool udp_only, int round);
+int run_equipment_peer(int domain, bool udp_only, int round, bool cyclone);
 
 }  // namespace mtc::bench

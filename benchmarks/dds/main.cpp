@@ -2,8 +2,9 @@
 // transition and handshake latencies, measured in one run on one machine.
 // Prints one JSON object on stdout (and to --out FILE); progress on stderr.
 //
-// Domain ids 100-106 and, for Cyclone's ddsperf, 115 (benchmarks and the
-// cell own 100-119; the cell runs on 110, its tests on 111-113).
+// Domain ids 100-106, for Cyclone's ddsperf 115 (benchmarks and the cell own
+// 100-119; the cell runs on 110, its tests on 111-113), and for the equipment
+// series on Cyclone DDS 189 (outside that range, which is full).
 // Must run inside the loopback-only namespace: benchmarks/run.sh does that.
 #include <algorithm>
 #include <array>
@@ -44,14 +45,15 @@ struct Options {
   bool raw = true;
   bool equipment = true;
   bool inline_steps = false;
-  bool peer = false;            // internal: this process is the forked ponger
-  bool equipment_peer = false;  // internal: the forked responder equipment
-  bool listener = false;        // internal: the ponger echoes from its listener
-  bool both_ends = false;       // internal: a one-process raw series, printed
-  int udp_peer_fd = -1;         // internal: be the UDP echo on this socket
-  int round = 1;                // internal: the equipment peer's round
-  int reply_timeout_ms = 1000;  // internal: a raw round trip's timeout
-  int peer_quits_after = 0;     // internal (tests): the raw pongers' echo limit
+  bool peer = false;               // internal: this process is the forked ponger
+  bool equipment_peer = false;     // internal: the forked responder equipment
+  bool cyclone_equipment = false;  // internal: that equipment runs on Cyclone DDS
+  bool listener = false;           // internal: the ponger echoes from its listener
+  bool both_ends = false;          // internal: a one-process raw series, printed
+  int udp_peer_fd = -1;            // internal: be the UDP echo on this socket
+  int round = 1;                   // internal: the equipment peer's round
+  int reply_timeout_ms = 1000;     // internal: a raw round trip's timeout
+  int peer_quits_after = 0;        // internal (tests): the raw pongers' echo limit
   Transport transport = Transport::UdpLoopback;
   int domain = 100;
 };
@@ -64,8 +66,9 @@ constexpr const char* kAbout =
     "over UDP loopback and over SHM+UDP where it applies; every series in --rounds\n"
     "rounds interleaved with the others, samples pooled. Every figure also as a ratio\n"
     "to the Fast DDS listener round trip and to the UDP round trip; CPU time per\n"
-    "operation (all processes) and the load average. DDS domains 100-106 and 115:\n"
-    "runs inside the loopback-only namespace (benchmarks/run.sh does that). Progress\n"
+    "operation (all processes) and the load average. With Cyclone DDS built in, the\n"
+    "equipment series once more with both ends on Cyclone. DDS domains 100-106, 115\n"
+    "and 189: runs inside the loopback-only namespace (benchmarks/run.sh does that). Progress\n"
     "on stderr; one JSON object on stdout and, with --out, in FILE:\n"
     "  {\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"load_average\":...,\n"
     "   \"series\":[{name,p50,p90,p99,p999,max,cpu_us_per_op,...},...],\n"
@@ -97,6 +100,7 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .internal_options_follow()
       .flag("--peer", o.peer, "be the raw ping-pong peer")
       .flag("--equipment-peer", o.equipment_peer, "be the responder equipment peer")
+      .flag("--cyclone-equipment", o.cyclone_equipment, "the equipment peer runs on Cyclone DDS")
       .flag("--listener", o.listener, "echo from the reader's listener")
       .flag("--both-ends", o.both_ends, "run a one-process raw series and print it")
       .integer("--udp-peer-fd", o.udp_peer_fd, 0, 65535, "be the UDP echo on this socket")
@@ -289,7 +293,7 @@ int main(int argc, char** argv) {
     }
     if (o.equipment_peer) {
       return mtc::bench::run_equipment_peer(o.domain, o.transport == Transport::UdpLoopback,
-                                            o.round);
+                                            o.round, o.cyclone_equipment);
     }
     return o.peer ? mtc::bench::run_raw_peer(raw_options(o), o.transport, o.domain, o.listener)
                   : run(o);
