@@ -51,10 +51,10 @@ class MixedCell : public ::testing::TestWithParam<Pair> {
  protected:
   // The robot requests, the machine responds, on one material handler.
   std::unique_ptr<Equipment> robot() {
-    auto cb = robot_rec.callbacks();
+    auto cb = robot_rec_.callbacks();
     // Counted apart: Recorder::wait's predicate runs under its lock.
     cb.on_link = [this, record = cb.on_link](const LinkEvent& e) {
-      if (e.current == LinkState::Lost) robot_lost.fetch_add(1);
+      if (e.current == LinkState::Lost) robot_lost_.fetch_add(1);
       record(e);
     };
     auto e = std::make_unique<Equipment>(on(GetParam().robot, "robot-mx"), cb);
@@ -63,15 +63,15 @@ class MixedCell : public ::testing::TestWithParam<Pair> {
   }
   std::unique_ptr<Equipment> machine() {
     auto e =
-        std::make_unique<Equipment>(on(GetParam().machine, "machine-mx"), machine_rec.callbacks());
+        std::make_unique<Equipment>(on(GetParam().machine, "machine-mx"), machine_rec_.callbacks());
     e->add_interface({"mh", InterfaceType::MaterialHandler, "", {"robot-mx", "mh"}});
     return e;
   }
-  std::string dump() { return "robot:\n" + robot_rec.dump() + "machine:\n" + machine_rec.dump(); }
+  std::string dump() { return "robot:\n" + robot_rec_.dump() + "machine:\n" + machine_rec_.dump(); }
 
-  Recorder robot_rec;
-  Recorder machine_rec;
-  std::atomic<int> robot_lost{0};  // the robot's links that became Lost
+  Recorder robot_rec_;
+  Recorder machine_rec_;
+  std::atomic<int> robot_lost_{0};  // the robot's links that became Lost
 };
 
 TEST_P(MixedCell, EveryServiceCompletes) {
@@ -89,6 +89,7 @@ TEST_P(MixedCell, EveryServiceCompletes) {
   RequestOptions wait;
   wait.wait_for_ready = kTimeout;
   std::vector<std::future<RequestResult>> results;
+  results.reserve(requesters.size());
   for (auto* q : requesters) results.push_back(q->request(wait));
   for (std::size_t i = 0; i < results.size(); ++i) {
     SCOPED_TRACE(std::string(core::to_string(core::kAllServices[i])));
@@ -135,13 +136,13 @@ TEST_P(MixedCell, AGracefulEndIsALeave) {
   wait.wait_for_ready = kTimeout;
   ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed) << dump();
   m.reset();
-  ASSERT_TRUE(robot_rec.wait([&] { return robot_lost.load() > 0; })) << dump();
+  ASSERT_TRUE(robot_rec_.wait([&] { return robot_lost_.load() > 0; })) << dump();
 
   auto again = machine();
   again->add_responder("mh", Service::MaterialLoad, serve);
   again->start();
   ASSERT_EQ(load.request(wait).get().outcome, Outcome::Completed) << dump();
-  const auto lost = links_to(robot_rec, LinkState::Lost);
+  const auto lost = links_to(robot_rec_, LinkState::Lost);
   ASSERT_EQ(lost.size(), 1u) << dump();
   EXPECT_EQ(lost[0].cause, "heartbeat leaving") << dump();
 }
