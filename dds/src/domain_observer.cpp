@@ -11,6 +11,7 @@
 
 #include "device_owners.hpp"
 #include "executor.hpp"
+#include "left_incarnations.hpp"
 #include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/dds/error.hpp"
 #include "mtc/qos/participant.hpp"
@@ -45,6 +46,15 @@ struct LastValue {
 
 using ItemKey = std::pair<std::string, std::string>;  // (device, data item id)
 
+// Whose an instance is: the device, its data item (state instances) or
+// timing group (heartbeat instances), and the incarnation that last wrote it.
+struct InstanceOwner {
+  std::string device;
+  std::string item;
+  std::uint32_t group = 0;
+  detail::ParticipantKey participant{};
+};
+
 }  // namespace
 
 struct DomainObserver::Impl {
@@ -53,8 +63,7 @@ struct DomainObserver::Impl {
 
   // Dispatch-thread state.
   std::map<Handle, WriterInfo> writers;
-  std::map<std::pair<TopicKind, Handle>, ItemKey> instances;  // state and announcement
-  std::map<Handle, std::pair<std::string, std::uint32_t>> heartbeat_instances;
+  std::map<std::pair<TopicKind, Handle>, InstanceOwner> instances;
   std::map<ItemKey, LastValue> last_values;
   std::set<ItemKey> lost_items;
   std::set<std::string> lost_devices;
@@ -68,6 +77,8 @@ struct DomainObserver::Impl {
   // participant lease) must not turn the current one's items UNAVAILABLE.
   std::map<std::string, detail::ParticipantKey> incarnation;
   detail::DeviceOwners owners;  // who speaks for each device (no DDS-Security)
+  // Incarnations that said they are leaving: what they write later is not news.
+  detail::LeftIncarnations left_incarnations;
   // The tap's readers announced again after a loss (reannounce.hpp).
   detail::ReannounceSchedule reannounce;
 
@@ -109,7 +120,7 @@ struct DomainObserver::Impl {
 
   void handle(detail::ValueEvent& e) {
     const auto& v = e.value;
-    if (!wanted(v.device_uuid)) return;
+    if (!wanted(v.device_uuid) || left_incarnations.wrote(e.writer)) return;
     if (!owned_by_writer(v.device_uuid, e.writer, detail::Said::Value)) {
       owners.hold(0, e);
       return;
@@ -120,17 +131,18 @@ struct DomainObserver::Impl {
     auto& w = writers[e.writer];
     w.device = v.device_uuid;
     w.items.insert(v.data_item_id);
-    instances[{e.topic, e.instance}] = {v.device_uuid, v.data_item_id};
+    const auto writer_participant = detail::participant_of(e.writer);
+    instances[{e.topic, e.instance}] = {v.device_uuid, v.data_item_id, 0, writer_participant};
     peer_groups.on_value(e.writer, e.topic, v);
-    incarnation[v.device_uuid] = detail::participant_of(e.writer);
-    last_values[{v.device_uuid, v.data_item_id}] = {v, detail::participant_of(e.writer)};
+    incarnation[v.device_uuid] = writer_participant;
+    last_values[{v.device_uuid, v.data_item_id}] = {v, writer_participant};
     lost_items.erase({v.device_uuid, v.data_item_id});
     if (callbacks.on_value) callbacks.on_value(v);
   }
 
   void handle(detail::DeviceEvent& e) {
     const auto& d = e.device;
-    if (!wanted(d.device_uuid)) return;
+    if (!wanted(d.device_uuid) || left_incarnations.wrote(e.writer)) return;
     if (!owned_by_writer(d.device_uuid, e.writer, detail::Said::Announcement)) {
       owners.hold(e);
       return;
@@ -138,7 +150,8 @@ struct DomainObserver::Impl {
     auto& w = writers[e.writer];
     w.device = d.device_uuid;
     w.description = true;
-    instances[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, ""};
+    instances[{TopicKind::DeviceDescription, e.instance}] = {d.device_uuid, "", 0,
+                                                             detail::participant_of(e.writer)};
     incarnation[d.device_uuid] = detail::participant_of(e.writer);
     lost_devices.erase(d.device_uuid);
     {
@@ -155,9 +168,10 @@ struct DomainObserver::Impl {
   // announces has arrived (before that a remembered value may be stale).
   void handle(detail::HeartbeatEvent& e) {
     const auto& h = e.heartbeat;
-    if (!wanted(h.device_uuid)) return;
+    if (!wanted(h.device_uuid) || left_incarnations.wrote(e.writer)) return;
     if (!owned_by_writer(h.device_uuid, e.writer, detail::Said::Heartbeat)) return;
-    heartbeat_instances[e.instance] = {h.device_uuid, h.group};
+    instances[{TopicKind::Heartbeat, e.instance}] = {h.device_uuid, "", h.group,
+                                                     detail::participant_of(e.writer)};
     if (detail::says_leaving(h)) {
       left(e);
       return;
@@ -174,17 +188,30 @@ struct DomainObserver::Impl {
     if (callbacks.on_heartbeat) callbacks.on_heartbeat(h);
   }
 
-  // A group's last heartbeat (period 0): the leave, as its heartbeat's
-  // disposal would tell it, for the incarnation that wrote it. Not kept as
-  // the group's newest (its period rules the silence checks), and marked
-  // silent so that no check tells it again; the disposals that follow find
-  // everything lost already.
+  // A group's last heartbeat (period 0): the leave of the incarnation that
+  // wrote it, every group of it at once (an equipment says it in all its
+  // groups together, and what that incarnation writes from now on, its
+  // other leaving heartbeats and its disposals included, is dropped). Not
+  // kept as a group's newest (its period rules the silence checks); the
+  // groups are marked silent so that no check tells the loss again.
   void left(const detail::HeartbeatEvent& e) {
     const auto& h = e.heartbeat;
     const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
     if (callbacks.on_heartbeat) callbacks.on_heartbeat(h);
-    silent_groups.insert(key);
-    group_lost(key);
+    left_incarnations.remember(e.writer);
+    std::vector<detail::PeerGroupKey> groups{key};
+    peer_groups.for_each([&](const detail::PeerGroupKey& k, const detail::PeerGroup&) {
+      if (k.device == key.device && k.participant == key.participant && k.group != key.group) {
+        groups.push_back(k);
+      }
+    });
+    for (const auto& k : groups) {
+      silent_groups.insert(k);
+      group_lost(k);
+    }
+    // Items of a group it never beat for, and the device, gone with it.
+    items_lost(key.device, items_of(key.device, key.participant, std::nullopt));
+    if (current(key.device, key.participant)) device_lost(key.device);
   }
 
   void recovered(const detail::PeerGroupKey& key) {
@@ -359,25 +386,24 @@ struct DomainObserver::Impl {
     }
   }
 
+  // Disposed (a graceful leave) or no writer left. A disposal by another
+  // incarnation than the one that last wrote the instance is an earlier
+  // one's last word, late (a Cyclone writer lingers to deliver it after its
+  // participant is gone): the instance is its successor's now.
   void handle(detail::InstanceGoneEvent& e) {
-    if (e.topic == TopicKind::Heartbeat) {
-      // Disposed (a graceful leave) or no writer left: whichever
-      // incarnation wrote it last.
-      const auto it = heartbeat_instances.find(e.instance);
-      if (it == heartbeat_instances.end()) return;
-      const auto& device = it->second.first;
-      const auto now = incarnation.find(device);
-      if (now != incarnation.end()) group_lost({device, it->second.second, now->second});
-      return;
-    }
+    if (left_incarnations.wrote(e.writer)) return;
     const auto it = instances.find({e.topic, e.instance});
     if (it == instances.end()) return;
-    if (e.topic == TopicKind::DeviceDescription) {
-      const std::string device = it->second.first;
-      device_lost(device);
-      if (auto held = owners.release_device(device)) handle(*held);
+    const auto owner = it->second;
+    if (e.writer != Handle{} && detail::participant_of(e.writer) != owner.participant) return;
+    if (e.topic == TopicKind::Heartbeat) {
+      const auto now = incarnation.find(owner.device);
+      if (now != incarnation.end()) group_lost({owner.device, owner.group, now->second});
+    } else if (e.topic == TopicKind::DeviceDescription) {
+      device_lost(owner.device);
+      if (auto held = owners.release_device(owner.device)) handle(*held);
     } else {
-      items_lost(it->second.first, {it->second.second});
+      items_lost(owner.device, {owner.item});
     }
   }
   // The observer requests no DEADLINE; a miss would be a cue, not a verdict.

@@ -342,7 +342,7 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
     return;
   }
   const auto owner = it->second;
-  if (how != Gone::WithoutWriters) remember_left(writer);
+  if (how != Gone::WithoutWriters) left_incarnations.remember(writer);
   for (auto& itf : interfaces) {
     if (itf->cp_uuid != owner.device) continue;
     // A device announcement concerns every interface; items only their group.
@@ -369,17 +369,6 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
   }
   if (topic == TopicKind::DeviceDescription) {
     if (auto held = owners.release_device(owner.device)) on_device(*held);
-  }
-}
-
-void EquipmentImpl::remember_left(const detail::Handle& writer) {
-  if (writer == detail::Handle{}) return;
-  constexpr std::size_t kRemembered = 256;
-  if (!left_incarnations.insert(detail::participant_of(writer)).second) return;
-  left_order.push_back(detail::participant_of(writer));
-  if (left_order.size() > kRemembered) {
-    left_incarnations.erase(left_order.front());
-    left_order.pop_front();
   }
 }
 

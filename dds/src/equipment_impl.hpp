@@ -4,7 +4,6 @@
 
 #include <array>
 #include <atomic>
-#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -19,6 +18,7 @@
 #include "door_chuck.hpp"
 #include "executor.hpp"
 #include "heartbeat_thread.hpp"
+#include "left_incarnations.hpp"
 #include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mw/middleware.hpp"
@@ -178,17 +178,11 @@ struct EquipmentImpl {
   std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
   std::set<detail::Handle> description_writers;
   detail::DeviceOwners owners;  // who announced each counterpart device
-  // Incarnations (participants) that said they are leaving: whatever of
-  // theirs arrives later (a value or disposal that crossed the leave on
-  // another topic, a lingering writer's disposal) is not news. Bounded:
-  // the oldest are forgotten first.
-  std::set<detail::ParticipantKey> left_incarnations;
-  std::deque<detail::ParticipantKey> left_order;
+  // Incarnations that said they are leaving: what they write later is not news.
+  detail::LeftIncarnations left_incarnations;
   bool from_left_incarnation(const detail::Handle& writer) const {
-    return writer != detail::Handle{} &&
-           left_incarnations.count(detail::participant_of(writer)) != 0;
+    return left_incarnations.wrote(writer);
   }
-  void remember_left(const detail::Handle& writer);
   std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
   // Last change number per (timing group whose tap saw it, writer).
   std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;

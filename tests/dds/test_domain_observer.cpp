@@ -5,6 +5,7 @@
 // missing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
@@ -121,6 +122,21 @@ class RawDevice {
     writer_->write(s);
   }
   void drop_writer() { writer_.reset(); }
+  // Disposes the response instance (as a writer does when it goes away).
+  void dispose_value() {
+    mtc::idl::InteractionSample s;
+    s.device_uuid(uuid_);
+    s.data_item_id("mh1_material_load_response");
+    writer_->dispose(s);
+  }
+  // Every matched reader has acknowledged every value and disposal: Fast DDS
+  // calls a reader's listener before its acknowledgment goes out, so the
+  // observer has queued it before anything written after this returns.
+  bool acknowledged(std::chrono::seconds bound) {
+    return writer_->get().wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
+               static_cast<std::int32_t>(bound.count()), 0)) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
   // Its last heartbeat (period 0), with no disposal after it.
   void leave() { heartbeat_.leave(); }
   // One heartbeat announcing `changes` as the newest response change.
@@ -313,6 +329,67 @@ TEST(DomainObserver, TakesALeavingHeartbeatAsTheLeave) {
   EXPECT_EQ(rec.devices_lost, std::vector<std::string>{"cnc-leaving"});
   ASSERT_EQ(rec.lost.size(), 1u);
   EXPECT_EQ(rec.lost[0].second, std::vector<std::string>{"mh1_material_load_response"});
+}
+
+// Call under rec.mutex (inside a wait's predicate) or with it held.
+bool saw_state(const Recorder& rec, mtc::core::InteractionState state) {
+  return std::any_of(rec.values.begin(), rec.values.end(),
+                     [&](const auto& v) { return v.state.interaction() == state; });
+}
+
+// What an incarnation writes after its leave (a value that crossed the leave
+// on another topic, or came from a writer that lingers after its
+// participant, as Cyclone's do) is not news: the bridge would show a value
+// of a device that is gone, and take it back once the disposals came.
+TEST(DomainObserver, WhatALeftIncarnationWritesLaterIsNotNews) {
+  constexpr int kDomain = 154;
+  mtc::qos::Timing slow;
+  slow.heartbeat = 1s;
+  slow.missed_heartbeats = 8;
+  Recorder rec;
+  auto o = options(kDomain);
+  o.timing = slow;
+  mtc::dds::DomainObserver observer(o, rec.callbacks());
+  RawDevice dev(kDomain, "cnc-left", slow);
+  dev.announce();
+  dev.publish(mtc::idl::interaction_state::READY, 1);
+  dev.beat(1);
+  ASSERT_TRUE(
+      rec.wait([&] { return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats > 0; }));
+  dev.leave();
+  ASSERT_TRUE(rec.wait([&] { return !rec.devices_lost.empty(); }));
+  dev.publish(mtc::idl::interaction_state::ACTIVE, 2);
+  ASSERT_TRUE(dev.acknowledged(10s));
+
+  RawDevice again(kDomain, "cnc-left", slow);
+  again.announce();
+  again.publish(mtc::idl::interaction_state::NOT_READY, 1);
+  again.beat(1);
+  ASSERT_TRUE(rec.wait([&] { return saw_state(rec, mtc::core::InteractionState::NotReady); }));
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  EXPECT_FALSE(saw_state(rec, mtc::core::InteractionState::Active));
+  EXPECT_EQ(rec.devices_lost, std::vector<std::string>{"cnc-left"});
+  EXPECT_EQ(rec.lost.size(), 1u);
+}
+
+// A disposal by an earlier incarnation that arrives after its successor
+// wrote the same instance ends nothing: the item is the successor's.
+TEST(DomainObserver, AnEarlierIncarnationsDisposalLeavesItsSuccessorsItemAlone) {
+  constexpr int kDomain = 155;
+  Recorder rec;
+  mtc::dds::DomainObserver observer(options(kDomain), rec.callbacks());
+  RawDevice old_one(kDomain, "cnc-twice");
+  old_one.publish(mtc::idl::interaction_state::READY, 1);
+  ASSERT_TRUE(rec.wait([&] { return saw_state(rec, mtc::core::InteractionState::Ready); }));
+  RawDevice new_one(kDomain, "cnc-twice");
+  new_one.publish(mtc::idl::interaction_state::ACTIVE, 1);
+  ASSERT_TRUE(rec.wait([&] { return saw_state(rec, mtc::core::InteractionState::Active); }));
+  old_one.dispose_value();
+  ASSERT_TRUE(old_one.acknowledged(10s));
+  new_one.publish(mtc::idl::interaction_state::COMPLETE, 2);
+  ASSERT_TRUE(rec.wait([&] { return saw_state(rec, mtc::core::InteractionState::Complete); }));
+  std::lock_guard<std::mutex> lock(rec.mutex);
+  EXPECT_TRUE(rec.lost.empty()) << rec.lost.size() << " loss(es) told";
 }
 
 TEST(DomainObserver, DeviceFilterHidesOtherDevices) {
