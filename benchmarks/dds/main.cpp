@@ -175,7 +175,7 @@ std::string to_json(const Options& o, const std::vector<Series>& all, const RunC
   }
   json << "\n],\n\"cyclone\":" << mtc::bench::cyclone_json(run.cyclone, run.cyclone_why)
        << ",\n\"ratios\":" << mtc::bench::ratios_json(all, cyclone)
-       << ",\n\"targets\":" << mtc::bench::targets_json(all) << "}\n";
+       << ",\n\"targets\":" << mtc::bench::targets_json(all, cyclone) << "}\n";
   return json.str();
 }
 
