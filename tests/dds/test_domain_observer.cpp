@@ -408,12 +408,24 @@ TEST(DomainObserver, DeviceFilterHidesOtherDevices) {
 }
 
 // A peer of another implementation may send a number the IDL enum does not
-// name: the observer hands it over as such, never as a known state.
+// name: the observer hands it over as such, never as a known state. Over
+// Cyclone DDS it never arrives: Cyclone 0.10's deserializer refuses an enum
+// value its type does not name (its log: "deserialization ... failed"), so
+// the sample is dropped before the runtime sees it, and what the same writer
+// sends next arrives as usual.
 TEST(DomainObserver, StateOutsideTheVocabularyIsKeptAsSent) {
   Recorder rec;
   mtc::dds::DomainObserver observer(options(24), rec.callbacks());
   RawDevice dev(24, "robot-1");
   dev.publish(static_cast<mtc::idl::interaction_state::Value>(9), 1);
+  if (mtc::test::test_middleware_is_cyclone()) {
+    dev.publish(mtc::idl::interaction_state::READY, 2);
+    ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
+    std::lock_guard<std::mutex> lock(rec.mutex);
+    ASSERT_EQ(rec.values.size(), 1u);
+    EXPECT_EQ(rec.values[0].state.interaction(), mtc::core::InteractionState::Ready);
+    return;
+  }
   ASSERT_TRUE(rec.wait([&] { return !rec.values.empty(); }));
   std::lock_guard<std::mutex> lock(rec.mutex);
   const auto& state = rec.values[0].state;

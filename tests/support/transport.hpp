@@ -8,6 +8,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,12 +20,39 @@ namespace mtc::test {
 inline constexpr qos::Transport kTestTransport = qos::Transport::Loopback;
 inline constexpr const char* kTestTransportName = "loopback";
 
+// The middleware the runtime's tests run over: MTC_TEST_MIDDLEWARE=cyclone
+// runs the same cases with every Equipment and DomainObserver on Cyclone DDS
+// (issue 9 section 3: the DDS-level suite over both backends); unset or
+// "fastdds": Fast DDS. Anything else fails the test that asks.
+inline bool test_middleware_is_cyclone() {
+  const char* chosen = std::getenv("MTC_TEST_MIDDLEWARE");
+  if (chosen == nullptr || std::string(chosen).empty() || std::string(chosen) == "fastdds") {
+    return false;
+  }
+  if (std::string(chosen) == "cyclone") return true;
+  throw std::invalid_argument("MTC_TEST_MIDDLEWARE='" + std::string(chosen) +
+                              "': expected fastdds or cyclone");
+}
+
+namespace detail {
+// Options with a `middleware` member (the runtime's) get the test middleware;
+// the others (qos::ParticipantConfig: raw Fast DDS peers) are left as they are.
+template <typename Options>
+auto choose_test_middleware(Options& options, int) -> decltype(options.middleware, void()) {
+  if (test_middleware_is_cyclone()) options.middleware = decltype(options.middleware)::Cyclone;
+}
+template <typename Options>
+void choose_test_middleware(Options&, long) {}
+}  // namespace detail
+
 // dds::EquipmentOptions, dds::DomainObserverOptions or qos::ParticipantConfig
-// with the loopback transport chosen, everything else at its default.
+// with the loopback transport chosen and the test middleware, everything
+// else at its default.
 template <typename Options>
 Options loopback() {
   Options options;
   options.transport = kTestTransport;
+  detail::choose_test_middleware(options, 0);
   return options;
 }
 
