@@ -78,7 +78,8 @@ inline std::string cyclone_target_json(const std::vector<Series>& all,
   if (!handshake) {
     return "";
   }
-  constexpr double kP50MaxUs = 60, kP99MaxUs = 250;
+  constexpr double kP50MaxUs = 60;
+  constexpr double kP99MaxUs = 250;
   std::ostringstream json;
   json << "\"cyclone_udp_loopback\":{\"handshake_p50_max_us\":" << kP50MaxUs
        << ",\"handshake_p50_us\":" << handshake->p50

@@ -133,8 +133,8 @@ class RawDevice {
   // calls a reader's listener before its acknowledgment goes out, so the
   // observer has queued it before anything written after this returns.
   bool acknowledged(std::chrono::seconds bound) {
-    return writer_->get().wait_for_acknowledgments(eprosima::fastrtps::Duration_t(
-               static_cast<std::int32_t>(bound.count()), 0)) ==
+    return writer_->get().wait_for_acknowledgments(
+               eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(bound.count()), 0)) ==
            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
   }
   // Its last heartbeat (period 0), with no disposal after it.

@@ -25,7 +25,7 @@ inline constexpr const char* kTestTransportName = "loopback";
 // (issue 9 section 3: the DDS-level suite over both backends); unset or
 // "fastdds": Fast DDS. Anything else fails the test that asks.
 inline bool test_middleware_is_cyclone() {
-  const char* chosen = std::getenv("MTC_TEST_MIDDLEWARE");
+  const char* chosen = std::getenv("MTC_TEST_MIDDLEWARE");  // NOLINT(concurrency-mt-unsafe)
   if (chosen == nullptr || std::string(chosen).empty() || std::string(chosen) == "fastdds") {
     return false;
   }
