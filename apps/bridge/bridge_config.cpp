@@ -11,6 +11,7 @@
 
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/bridge/xml_text.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "mtc/qos/participant.hpp"
 
 namespace mtc::bridge {
@@ -184,6 +185,17 @@ void set_transport(BridgeConfig& c, std::string_view v, const std::string& origi
   c.observer.transport = *transport;
 }
 
+void set_middleware(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  const auto middleware = dds::parse_middleware(v);
+  if (!middleware)
+    fail(origin, "Middleware must be fastdds or cyclone, not '" + std::string(v) + "'");
+  if (!dds::middleware_available(*middleware)) {
+    fail(origin, "Middleware " + std::string(v) +
+                     ": this build has no such backend (configure with -DMTC_CYCLONE=ON)");
+  }
+  c.observer.middleware = *middleware;
+}
+
 // Checked here so that a bad directory is told with the origin of the
 // setting, before any DDS entity exists.
 void set_security_dir(BridgeConfig& c, std::string_view v, const std::string& origin) {
@@ -269,7 +281,7 @@ void set_shdr_ip(BridgeConfig& c, std::string_view v, const std::string& origin)
   c.shdr_enabled = true;
 }
 
-const std::array<Setting, 29> kSettings{{
+const std::array<Setting, 30> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -303,6 +315,10 @@ const std::array<Setting, 29> kSettings{{
     {"Transport", "--transport", "DDS transport: loopback, loopback-udp, test or network",
      set_transport,
      [](const BridgeConfig& c) { return std::string(qos::to_string(c.observer.transport)); }},
+    {"Middleware", "--middleware",
+     "DDS implementation: fastdds or cyclone (cyclone: loopback transports, no SecurityDir)",
+     set_middleware,
+     [](const BridgeConfig& c) { return std::string(dds::to_string(c.observer.middleware)); }},
     {"TlsCertificateChain", "--tls-certificate",
      "HTTPS: PEM certificate chain (with TlsPrivateKey; default: plain HTTP)", set_tls_certificate},
     {"TlsPrivateKey", "--tls-private-key", "HTTPS: PEM private key of the certificate",

@@ -9,6 +9,7 @@
 
 #include "../support/param_name.hpp"
 #include "bridge_config.hpp"
+#include "mtc/dds/middleware.hpp"
 
 namespace mtc::bridge {
 namespace {
@@ -56,6 +57,23 @@ TEST(BridgeConfig, TransportsAreNamedAsMtcQosNamesThem) {
             std::string::npos);
 }
 
+// Fast DDS unless the file says otherwise; Cyclone only where this build
+// has it (the sanitizer builds do not), and told with the setting's origin
+// when it has not.
+TEST(BridgeConfig, MiddlewareIsFastDdsOrCycloneWhereBuiltIn) {
+  EXPECT_EQ(parse("").observer.middleware, dds::Middleware::FastDds);
+  EXPECT_EQ(parse("Middleware = fastdds").observer.middleware, dds::Middleware::FastDds);
+  if (dds::middleware_available(dds::Middleware::Cyclone)) {
+    EXPECT_EQ(parse("Middleware = cyclone").observer.middleware, dds::Middleware::Cyclone);
+  } else {
+    EXPECT_NE(error_of("Middleware = cyclone").find("configure with -DMTC_CYCLONE=ON"),
+              std::string::npos);
+  }
+  EXPECT_NE(
+      error_of("Middleware = opendds").find("Middleware must be fastdds or cyclone, not 'opendds'"),
+      std::string::npos);
+}
+
 TEST(BridgeConfig, HelpShowsTheDefaultsOfTheOptionsItHolds) {
   const auto text = usage_text("mtc-bridge");
   const BridgeConfig defaults;
@@ -68,7 +86,8 @@ TEST(BridgeConfig, HelpShowsTheDefaultsOfTheOptionsItHolds) {
            "(default " + std::to_string(defaults.agent.stream_heartbeat.count()) + ")",
            // NOLINTNEXTLINE(bugprone-suspicious-missing-comma): one help line, wrapped
            "Transport: DDS transport: loopback, loopback-udp, test or network (default "
-           "network)"}) {
+           "network)",
+           "(default fastdds)"}) {
     EXPECT_NE(text.find(expected), std::string::npos) << expected << "\nin:\n" << text;
   }
 }

@@ -1,7 +1,7 @@
 // The mtc-bridge executable as an operator runs it: exit codes, signals,
 // and end to end from a DDS writer to /current.
-// DDS domains: 80 end-to-end, 81 process lifecycle, 82 repeated losses (see
-// CMakeLists.txt).
+// DDS domains: 80 end-to-end, 81 process lifecycle, 82 repeated losses, 85
+// the bridge on Cyclone DDS (see CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -16,6 +16,7 @@
 
 #include "child_process.hpp"
 #include "mtc/dds/equipment.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "raw_client.hpp"
 #include "transport.hpp"
 
@@ -309,6 +310,44 @@ TEST(BridgeEndToEnd, AvailabilityFollowsEveryLoss) {
         eventually([&] { return bridge.current_value(item) == "READY"; }, std::chrono::seconds(10)))
         << "thaw " << freeze;
   }
+}
+
+// `--middleware cyclone` (issue 9 section 3): the bridge observes through
+// Cyclone DDS a device on Fast DDS, its changes and its leave, since the
+// wire contract is the IDL and the QoS. A build without Cyclone (the
+// sanitizer builds) refuses the option, naming the CMake switch.
+TEST(BridgeEndToEnd, ABridgeOnCycloneFollowsADeviceOnFastDds) {
+  if (!dds::middleware_available(dds::Middleware::Cyclone)) {
+    std::string err;
+    EXPECT_EQ(exit_code_of({"--domain-ids", "85", "--middleware", "cyclone"}, &err), 2);
+    EXPECT_NE(err.find("configure with -DMTC_CYCLONE=ON"), std::string::npos) << err;
+    return;
+  }
+  RunningBridge bridge({"--domain-ids", "85", "--heartbeat-ms", "100", "--middleware", "cyclone"});
+  ASSERT_NE(bridge.port(), 0);
+  dds::EquipmentOptions options;
+  options.domain_id = 85;
+  options.device_uuid = "fastdds-machine";
+  options.transport = qos::Transport::Loopback;
+  options.middleware = dds::Middleware::FastDds;
+  auto machine = std::make_unique<dds::Equipment>(options);
+  machine->add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
+  auto& load = machine->add_responder("mh1", core::Service::MaterialLoad, {});
+  machine->start();
+
+  const std::string item = "mh1_material_load_response";
+  const std::string availability = "fastdds-machine_avail";
+  EXPECT_TRUE(
+      eventually([&] { return bridge.current_value(item) == "READY"; }, std::chrono::seconds(15)))
+      << "last /current value: '" << bridge.current_value(item) << "'";
+  EXPECT_EQ(bridge.current_value(availability), "AVAILABLE");
+  load.set_ready(false).get();
+  EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "NOT_READY"; },
+                         std::chrono::seconds(10)));
+  machine.reset();  // its leave: the last heartbeats say so
+  EXPECT_TRUE(eventually([&] { return bridge.current_value(item) == "UNAVAILABLE"; },
+                         std::chrono::seconds(10)));
+  EXPECT_EQ(bridge.current_value(availability), "UNAVAILABLE");
 }
 
 }  // namespace
