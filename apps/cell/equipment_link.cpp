@@ -281,6 +281,7 @@ class EquipmentLink : public Link {
     eo.device_name = std::string(to_string(id));
     eo.timing = options.timing;
     eo.transport = options.transport;
+    eo.middleware = middleware_of(id, options);
     eo.security_dir = security_dir_of(id, options);
     equipment_ = std::make_unique<dds::Equipment>(eo, callbacks());
     const Layout l = layout_of(id);

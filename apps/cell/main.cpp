@@ -39,6 +39,9 @@ void usage(std::ostream& out) {
       << defaults.heartbeat.count() << " x " << defaults.missed_heartbeats << " = "
       << defaults.lease().count()
       << " ms)\n"
+         "  --middleware NAME, --middleware STATION=NAME\n"
+         "                   DDS implementation of every station, or of one (repeat it):\n"
+         "                   fastdds (default) or cyclone, e.g. --middleware robot=cyclone\n"
          "  --security DIR   DDS-Security: DIR is the make-pki.sh output for\n"
          "                   scripts/security/cell.txt; each station uses DIR/<its uuid>\n"
          "  --threads        run the three stations as threads of one process\n"
@@ -66,9 +69,36 @@ struct Parsed {
   std::vector<std::string> station_args;  // what each child station gets
 };
 
-// The options whose value is a name (--station, --transport): true when `a`
-// was one of them, with `error` set when its value is unknown.
+// --middleware NAME (every station) or STATION=NAME (one): an error message,
+// empty when taken.
+std::string parse_middleware(const std::string& v, mtc::cell::CellOptions& options) {
+  const auto equals = v.find('=');
+  const std::string name = equals == std::string::npos ? v : v.substr(equals + 1);
+  const auto middleware = mtc::dds::parse_middleware(name);
+  if (!middleware) return "unknown middleware '" + name + "' (fastdds or cyclone)";
+  if (!mtc::dds::middleware_available(*middleware)) {
+    return "--middleware " + name + ": this build has no such backend (configure with " +
+           "-DMTC_CYCLONE=ON)";
+  }
+  if (equals == std::string::npos) {
+    options.middleware.fill(*middleware);
+    return {};
+  }
+  const auto station = mtc::cell::parse_station(v.substr(0, equals));
+  if (!station) return "unknown station in --middleware '" + v + "' (machine, robot or feeder)";
+  options.middleware[static_cast<std::size_t>(*station)] = *middleware;
+  return {};
+}
+
+// The options whose value is a name (--station, --transport, --middleware):
+// true when `a` was one of them, with `error` set when its value is unknown.
 bool parse_named_value(const std::string& a, const std::string& v, Parsed& p, std::string& error) {
+  if (a == "--middleware") {
+    error = parse_middleware(v, p.options);
+    p.station_args.push_back(a);
+    p.station_args.push_back(v);
+    return true;
+  }
   if (a == "--station") {
     const auto id = mtc::cell::parse_station(v);
     if (!id) {

@@ -9,12 +9,14 @@
 // recovered to READY and the machine retrying the step.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
 
 #include "cell_plan.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/timing.hpp"
 #include "ports.hpp"
@@ -37,11 +39,20 @@ struct CellOptions {
   // --transport: the network by default, as every tool; start.sh and the
   // tests choose loopback.
   qos::Transport transport = qos::Transport::Network;
+  // --middleware: the DDS implementation of each station (machine, robot,
+  // feeder, in StationId order): Fast DDS unless told otherwise; a cell may
+  // mix them (issue 9 section 3: the robot on Cyclone, the rest on Fast DDS).
+  std::array<dds::Middleware, 3> middleware{dds::Middleware::FastDds, dds::Middleware::FastDds,
+                                            dds::Middleware::FastDds};
   // DDS-Security: a scripts/security/make-pki.sh output directory for
   // scripts/security/cell.txt; each station uses <security_dir>/<its uuid>.
   // Empty: unsecured.
   std::string security_dir;
 };
+
+inline dds::Middleware middleware_of(StationId id, const CellOptions& options) {
+  return options.middleware[static_cast<std::size_t>(id)];
+}
 
 // Stop request shared by a station's threads; its sleeps wake on stop().
 class Stopper {

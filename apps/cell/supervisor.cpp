@@ -31,6 +31,19 @@ struct Child {
   int exit_code = 0;
 };
 
+// "fastdds" when every station has it, else each station's, e.g.
+// "machine fastdds, robot cyclone, feeder fastdds".
+std::string middleware_text(const CellOptions& options) {
+  const auto& m = options.middleware;
+  if (m[0] == m[1] && m[1] == m[2]) return std::string(dds::to_string(m[0]));
+  std::string text;
+  for (const auto id : {StationId::Machine, StationId::Robot, StationId::Feeder}) {
+    text += (text.empty() ? "" : ", ") + std::string(to_string(id)) + " " +
+            std::string(dds::to_string(middleware_of(id, options)));
+  }
+  return text;
+}
+
 sigset_t control_signals() {
   sigset_t set;
   sigemptyset(&set);
@@ -283,9 +296,10 @@ int supervise(const CellOptions& options, const std::vector<std::string>& statio
     children.push_back({id, pid, true, 0});
   }
   print_line("cell", format("stations started: machine pid %d, robot pid %d, feeder pid %d "
-                            "(DDS domain %d, transport %s)",
+                            "(DDS domain %d, transport %s, middleware %s)",
                             children[2].pid, children[1].pid, children[0].pid, options.domain_id,
-                            std::string(qos::to_string(options.transport)).c_str()));
+                            std::string(qos::to_string(options.transport)).c_str(),
+                            middleware_text(options).c_str()));
   const int rc = Supervisor(options, std::move(children)).run(set);
   print_line("cell", format("all stations stopped, exit code %d", rc));
   pthread_sigmask(SIG_SETMASK, &original, nullptr);

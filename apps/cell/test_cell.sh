@@ -5,6 +5,10 @@
 #   test_cell.sh chuck  <mtc-cell>                 in-memory: OPEN_CHUCK withdrawn mid-motion
 #   test_cell.sh transport <mtc-cell>              --transport: network by default, a bad kind exits 2
 #   test_cell.sh dds    <mtc-cell> <domain>        3 processes over DDS, bounded run
+#   test_cell.sh mixed  <mtc-cell> <domain>        the same with the robot on Cyclone DDS
+#                                                   and the machine and feeder on Fast DDS
+#   test_cell.sh middleware <mtc-cell>             --middleware: bad names exit 2; in a
+#                                                   build without Cyclone, cyclone too
 #   test_cell.sh sigint <mtc-cell> <domain>        Ctrl-C stops every station, exit 0
 #   test_cell.sh start  <build-dir> <domain> <port> scripts/start.sh: bridge serves the cell
 #   test_cell.sh secure <build-dir> <domain> <port> the same with --secure: DDS-Security (a
@@ -16,8 +20,8 @@ usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' 
 mode="${1:-}"
 case "$mode" in
   -h | --help) usage; exit 0 ;;
-  local | chuck | transport) arguments=2 ;;
-  dds | sigint) arguments=3 ;;
+  local | chuck | transport | middleware) arguments=2 ;;
+  dds | sigint | mixed) arguments=3 ;;
   start | secure) arguments=4 ;;
   *) echo "test_cell.sh: unknown mode or option '$mode'" >&2; usage >&2; exit 2 ;;
 esac
@@ -78,7 +82,7 @@ check_bounded_run() {
   return 0
 }
 
-cell="$2"  # the mtc-cell executable (modes local, chuck, transport, dds, sigint)
+cell="$2"  # the mtc-cell executable (every mode but start and secure)
 case "$mode" in
   transport)
     # The default comes from CellOptions, which the parser starts from.
@@ -117,8 +121,33 @@ case "$mode" in
       --domain "$3" >"$log" 2>&1 ||
       fail "mtc-cell exited with $?"
     check_bounded_run 6
-    expect "\(DDS domain $3, transport loopback\)" "the stations on the transport chosen"
+    expect "\(DDS domain $3, transport loopback, middleware fastdds\)" "the stations on the transport chosen"
     expect "all stations stopped, exit code 0" "a clean stop of every station" ;;
+  mixed)
+    # Issue 9 section 3: the wire contract is the IDL and the QoS, so every
+    # handshake and injected failure of the cell completes across vendors.
+    timeout 150 "$cell" --transport loopback --middleware robot=cyclone --cycles 6 --fail-every 2 \
+      --seed 7 --pace-ms 10 --domain "$3" >"$log" 2>&1 ||
+      fail "mtc-cell exited with $?"
+    check_bounded_run 6
+    expect "middleware machine fastdds, robot cyclone, feeder fastdds\)" "the robot on Cyclone"
+    expect "all stations stopped, exit code 0" "a clean stop of every station" ;;
+  middleware)
+    "$cell" --help >"$log" 2>&1 || fail "mtc-cell --help exited with $?"
+    expect "middleware STATION=NAME" "the option in the help"
+    for bad in "opendds:unknown middleware 'opendds'" "robot=opendds:unknown middleware 'opendds'" \
+      "arm=fastdds:unknown station in --middleware 'arm=fastdds'"; do
+      rc=0
+      "$cell" --middleware "${bad%%:*}" --cycles 1 >"$log" 2>&1 || rc=$?
+      [ "$rc" = 2 ] || fail "mtc-cell --middleware ${bad%%:*} exited with $rc, not 2"
+      expect "${bad#*:}" "the bad value named"
+    done
+    if [ "${MTC_CELL_HAS_CYCLONE:-}" = 0 ]; then
+      rc=0
+      "$cell" --middleware robot=cyclone --cycles 1 >"$log" 2>&1 || rc=$?
+      [ "$rc" = 2 ] || fail "mtc-cell --middleware robot=cyclone exited with $rc without Cyclone"
+      expect "configure with -DMTC_CYCLONE=ON" "the CMake switch named"
+    fi ;;
   sigint)
     "$cell" --transport loopback --pace-ms 10 --domain "$3" >"$log" 2>&1 &
     pid=$!
