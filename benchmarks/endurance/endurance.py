@@ -40,6 +40,16 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 WATCHED = ("machine", "robot", "feeder", "bridge")  # the CPU verdict's processes
 
 
+def cell_args(args):
+    extra = [a for spec in args.middleware for a in ("--middleware", spec)]
+    return ["--transport", "loopback", "--domain", str(args.domain)] + extra
+
+
+def bridge_args(args):
+    return ["--transport", "loopback", "--domain-ids", str(args.domain), "--port",
+            str(args.port), "--middleware", args.bridge_middleware]
+
+
 def parse_args(argv):
     p = argparse.ArgumentParser(
         prog="endurance.py", description=__doc__.split("\n\n")[0],
@@ -59,6 +69,11 @@ def parse_args(argv):
     p.add_argument("--name", default="endurance",
                    help="file stem: NAME.json, NAME.png, NAME-cell.log, NAME-bridge.log")
     p.add_argument("--no-plot", action="store_true", help="skip the PNG")
+    p.add_argument("--middleware", action="append", default=[], metavar="SPEC",
+                   help="handed to mtc-cell as --middleware SPEC (repeatable), e.g. "
+                        "robot=cyclone: a cell on two DDS implementations")
+    p.add_argument("--bridge-middleware", default="fastdds", choices=("fastdds", "cyclone"),
+                   help="the bridge's DDS implementation (default fastdds)")
     a = p.parse_args(argv)
     if a.interval <= 0 or a.window < a.interval or a.cpu_ratio <= 1.0:
         p.error("need --interval > 0, --window >= --interval and --cpu-ratio > 1")
@@ -99,9 +114,7 @@ class Run:
         apps = os.path.join(self.args.build, "apps")
         bridge_log = open(self.stem + "-bridge.log", "w")
         self.bridge = subprocess.Popen(
-            [os.path.join(apps, "mtc-bridge"), "--transport", "loopback",
-             "--domain-ids", str(self.args.domain),
-             "--port", str(self.args.port)],
+            [os.path.join(apps, "mtc-bridge")] + bridge_args(self.args),
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_parent)
         # The bridge says when it listens: start the stream then, not after a sleep.
         first = self.bridge.stdout.readline().decode("utf-8", "replace")
@@ -111,8 +124,7 @@ class Run:
         self._drain(self.bridge.stdout, bridge_log)
         self.stream.start()
         self.cell = subprocess.Popen(
-            [os.path.join(apps, "mtc-cell"), "--transport", "loopback",
-             "--domain", str(self.args.domain)],
+            [os.path.join(apps, "mtc-cell")] + cell_args(self.args),
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_parent)
         self.log = cell_log.CellLog(self.cell.stdout, open(self.stem + "-cell.log", "w"),
                                     self.clock, self.t0)
@@ -238,10 +250,9 @@ def report(args, run, codes, load_start):
         "cores": os.cpu_count(), "load_average_start": load_start,
         "load_average_end": load_average(),
         "config": {"domain": args.domain, "port": args.port, "build": args.build,
-                   "cell": "mtc-cell --transport loopback --domain %d (defaults: 100 ms x 3 "
-                           "heartbeat)" % args.domain,
-                   "bridge": "mtc-bridge --transport loopback --domain-ids %d --port %d"
-                             % (args.domain, args.port)},
+                   "cell": "mtc-cell %s (defaults: 100 ms x 3 heartbeat)"
+                           % " ".join(cell_args(args)),
+                   "bridge": "mtc-bridge " + " ".join(bridge_args(args))},
         "processes": processes, "cell": cell, "stream": run.stream.summary(),
         "exit_codes": codes, "events": run.events,
     }
