@@ -187,8 +187,9 @@ void set_transport(BridgeConfig& c, std::string_view v, const std::string& origi
 
 void set_middleware(BridgeConfig& c, std::string_view v, const std::string& origin) {
   const auto middleware = dds::parse_middleware(v);
-  if (!middleware)
+  if (!middleware) {
     fail(origin, "Middleware must be fastdds or cyclone, not '" + std::string(v) + "'");
+  }
   if (!dds::middleware_available(*middleware)) {
     fail(origin, "Middleware " + std::string(v) +
                      ": this build has no such backend (configure with -DMTC_CYCLONE=ON)");
