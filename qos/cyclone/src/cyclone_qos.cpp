@@ -68,6 +68,13 @@ CycloneQos cyclone_writer_qos(const EndpointQos& endpoint) {
   auto qos = make_qos();
   apply_common(endpoint, qos.get());
   dds_qset_ownership_strength(qos.get(), endpoint.ownership_strength());
+  // No disposal but an explicit one. With the default (true), a Cyclone
+  // reader turns a Cyclone writer's loss of liveliness (a process stopped
+  // for a lease) into NOT_ALIVE_DISPOSED, which the runtime takes for the
+  // graceful leave of that incarnation and stops listening to it: a SIGSTOPped
+  // peer, resumed, was never heard again. The graceful leave disposes
+  // explicitly, so it still reads as one.
+  dds_qset_writer_data_lifecycle(qos.get(), false);
   // Cyclone would pick XCDR2 for some types; Fast DDS 2.9 reads XCDR1 only.
   const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
   dds_qset_data_representation(qos.get(), 1, &xcdr1);
