@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -57,10 +58,22 @@ Options loopback() {
 }
 
 // The arguments of `mtc`, `mtc-bridge` or `mtc-cell` with `--transport
-// loopback` added, unless they choose a transport already.
+// loopback` added, unless they choose a transport already; and, under
+// MTC_TEST_MIDDLEWARE=cyclone, `--middleware cyclone` unless they choose one
+// or inject faults (`--transport test`, `--drop-percent`: Fast DDS's
+// fault-injecting transport, which Cyclone has no counterpart of; those
+// cases run on Fast DDS either way).
 inline std::vector<std::string> with_loopback_transport(std::vector<std::string> args) {
-  if (std::find(args.begin(), args.end(), "--transport") == args.end()) {
+  const auto transport = std::find(args.begin(), args.end(), "--transport");
+  const bool fault_injection = (transport != args.end() && std::next(transport) != args.end() &&
+                                *std::next(transport) == "test") ||
+                               std::find(args.begin(), args.end(), "--drop-percent") != args.end();
+  if (transport == args.end()) {
     args.insert(args.end(), {"--transport", kTestTransportName});
+  }
+  if (test_middleware_is_cyclone() && !fault_injection &&
+      std::find(args.begin(), args.end(), "--middleware") == args.end()) {
+    args.insert(args.end(), {"--middleware", "cyclone"});
   }
   return args;
 }

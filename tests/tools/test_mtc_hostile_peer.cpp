@@ -3,6 +3,9 @@
 // test process plays that device (RoguePeer) against real `mtc` processes:
 // every such sample is reported by name as a protocol violation, never
 // crashes the counterpart nor moves it wrongly, and other pairs carry on.
+// Over Cyclone DDS (MTC_TEST_MIDDLEWARE=cyclone) a number outside an IDL
+// enum never reaches the runtime: Cyclone 0.10's deserializer drops the
+// sample, so there is nothing to report and nothing moves.
 // Domain ids 190-194 (tools tests, third range; see mtc_fixture.hpp).
 #include <gtest/gtest.h>
 
@@ -54,6 +57,17 @@ TEST(HostilePeer, StateOutsideTheVocabularyIsAProtocolViolationByName) {
   robot.set_state(InteractionState::Active);
   ASSERT_TRUE(robot.wait_counterpart(InteractionState::Active, kStep)) << machine->transcript();
   robot.set_raw_state(7);
+  if (test_middleware_is_cyclone()) {
+    // Dropped by Cyclone: the machine completes as if it never came.
+    ASSERT_TRUE(robot.wait_counterpart(InteractionState::Complete, kStep)) << machine->transcript();
+    robot.set_state(InteractionState::Ready);
+    const auto first = wait_outcome(*machine, 1);
+    ASSERT_TRUE(first) << machine->transcript();
+    EXPECT_EQ(json_field(*first, "result"), "COMPLETE") << machine->transcript();
+    EXPECT_FALSE(contains(machine->stderr_text(), "outside its vocabulary"))
+        << machine->transcript();
+    return;
+  }
   // Not taken for UNAVAILABLE (which would be a comms matter): the service
   // fails as Tables 5/6 say for an unknown value, and the report names it.
   ASSERT_TRUE(robot.wait_counterpart(InteractionState::Fail, kStep)) << machine->transcript();
@@ -86,15 +100,20 @@ TEST(HostilePeer, ServiceOutsideTheVocabularyIsReportedAndIgnored) {
   robot.set_raw_service(99);
   robot.set_state(InteractionState::Active);
   // KEEP_LAST 1: the next change of the item could replace this one before
-  // it is sent, so wait until the machine has had it.
-  EXPECT_TRUE(machine->wait_for_stderr("carries a service outside the vocabulary", kStep))
-      << machine->transcript();
+  // it is sent, so wait until the machine has had it (over Cyclone it is
+  // dropped on arrival: nothing to wait for).
+  const bool cyclone = test_middleware_is_cyclone();
+  if (!cyclone) {
+    EXPECT_TRUE(machine->wait_for_stderr("carries a service outside the vocabulary", kStep))
+        << machine->transcript();
+  }
   robot.set_service(core::Service::MaterialLoad);
   const auto outcome = rogue_handshake(robot, *machine, 1);
   ASSERT_TRUE(outcome) << machine->transcript();
   EXPECT_EQ(json_field(*outcome, "result"), "COMPLETE") << machine->transcript();
-  EXPECT_TRUE(contains(machine->stderr_text(), "device 'robot-1' item") &&
-              contains(machine->stderr_text(), "carries a service outside the vocabulary"))
+  EXPECT_EQ(contains(machine->stderr_text(), "device 'robot-1' item") &&
+                contains(machine->stderr_text(), "carries a service outside the vocabulary"),
+            !cyclone)
       << machine->transcript();
 }
 
