@@ -138,13 +138,13 @@ case "$mode" in
     for bad in "opendds:unknown middleware 'opendds'" "robot=opendds:unknown middleware 'opendds'" \
       "arm=fastdds:unknown station in --middleware 'arm=fastdds'"; do
       rc=0
-      "$cell" --middleware "${bad%%:*}" --cycles 1 >"$log" 2>&1 || rc=$?
+      "$cell" --transport loopback --middleware "${bad%%:*}" --cycles 1 >"$log" 2>&1 || rc=$?
       [ "$rc" = 2 ] || fail "mtc-cell --middleware ${bad%%:*} exited with $rc, not 2"
       expect "${bad#*:}" "the bad value named"
     done
     if [ "${MTC_CELL_HAS_CYCLONE:-}" = 0 ]; then
       rc=0
-      "$cell" --middleware robot=cyclone --cycles 1 >"$log" 2>&1 || rc=$?
+      "$cell" --transport loopback --middleware robot=cyclone --cycles 1 >"$log" 2>&1 || rc=$?
       [ "$rc" = 2 ] || fail "mtc-cell --middleware robot=cyclone exited with $rc without Cyclone"
       expect "configure with -DMTC_CYCLONE=ON" "the CMake switch named"
     fi ;;

@@ -40,14 +40,16 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 WATCHED = ("machine", "robot", "feeder", "bridge")  # the CPU verdict's processes
 
 
+# After "--transport loopback", which the callers write out (the transport
+# guard, tests/scripts/check_transport_chosen.py, reads the argument lists).
 def cell_args(args):
     extra = [a for spec in args.middleware for a in ("--middleware", spec)]
-    return ["--transport", "loopback", "--domain", str(args.domain)] + extra
+    return ["--domain", str(args.domain)] + extra
 
 
 def bridge_args(args):
-    return ["--transport", "loopback", "--domain-ids", str(args.domain), "--port",
-            str(args.port), "--middleware", args.bridge_middleware]
+    return ["--domain-ids", str(args.domain), "--port", str(args.port),
+            "--middleware", args.bridge_middleware]
 
 
 def parse_args(argv):
@@ -114,7 +116,7 @@ class Run:
         apps = os.path.join(self.args.build, "apps")
         bridge_log = open(self.stem + "-bridge.log", "w")
         self.bridge = subprocess.Popen(
-            [os.path.join(apps, "mtc-bridge")] + bridge_args(self.args),
+            [os.path.join(apps, "mtc-bridge"), "--transport", "loopback"] + bridge_args(self.args),
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_parent)
         # The bridge says when it listens: start the stream then, not after a sleep.
         first = self.bridge.stdout.readline().decode("utf-8", "replace")
@@ -124,7 +126,7 @@ class Run:
         self._drain(self.bridge.stdout, bridge_log)
         self.stream.start()
         self.cell = subprocess.Popen(
-            [os.path.join(apps, "mtc-cell")] + cell_args(self.args),
+            [os.path.join(apps, "mtc-cell"), "--transport", "loopback"] + cell_args(self.args),
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=die_with_parent)
         self.log = cell_log.CellLog(self.cell.stdout, open(self.stem + "-cell.log", "w"),
                                     self.clock, self.t0)
@@ -250,9 +252,9 @@ def report(args, run, codes, load_start):
         "cores": os.cpu_count(), "load_average_start": load_start,
         "load_average_end": load_average(),
         "config": {"domain": args.domain, "port": args.port, "build": args.build,
-                   "cell": "mtc-cell %s (defaults: 100 ms x 3 heartbeat)"
+                   "cell": "mtc-cell --transport loopback %s (defaults: 100 ms x 3 heartbeat)"
                            % " ".join(cell_args(args)),
-                   "bridge": "mtc-bridge " + " ".join(bridge_args(args))},
+                   "bridge": "mtc-bridge --transport loopback " + " ".join(bridge_args(args))},
         "processes": processes, "cell": cell, "stream": run.stream.summary(),
         "exit_codes": codes, "events": run.events,
     }
