@@ -1,6 +1,7 @@
 #include "raw_pingpong.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -223,22 +224,28 @@ class EchoListener : public fdds::DataReaderListener {
  public:
   explicit EchoListener(EchoBudget& budget) : budget_(budget) {}
 
-  void attach(Endpoint* endpoint) { endpoint_ = endpoint; }
+  void attach(Endpoint* endpoint) { endpoint_.store(endpoint); }
 
   void on_data_available(fdds::DataReader* reader) override {
+    // A ping can arrive while the Endpoint that owns this reader is still
+    // being built (TRANSIENT_LOCAL hands a late ponger the last one): it is
+    // left in the reader and echoed with the next ping, which the pinger
+    // sends after a stall (UBSan caught the null call once under ASan).
+    Endpoint* const endpoint = endpoint_.load();
+    if (endpoint == nullptr) return;
     mtc::idl::InteractionSample sample;
     while (Endpoint::take_from(reader, sample)) {
       if (!budget_.take()) {
         return;
       }
       sample.device_uuid("bench-pong");
-      endpoint_->write(sample);
+      endpoint->write(sample);
     }
   }
 
  private:
   EchoBudget& budget_;
-  Endpoint* endpoint_ = nullptr;
+  std::atomic<Endpoint*> endpoint_{nullptr};
 };
 
 // The pinger's side of the listener ping-pong: each echo is timed and the
@@ -252,9 +259,12 @@ class PingListener : public fdds::DataReaderListener {
     ping_ = make_sample("bench-ping");
   }
 
-  void attach(Endpoint* endpoint) { endpoint_ = endpoint; }
+  void attach(Endpoint* endpoint) { endpoint_.store(endpoint); }
 
   void on_data_available(fdds::DataReader* reader) override {
+    // Not attached yet (an echo left from before, delivered on match): the
+    // series has not started, and run() sends its first ping itself.
+    if (endpoint_.load() == nullptr) return;
     mtc::idl::InteractionSample echo;
     while (Endpoint::take_from(reader, echo)) {
       const auto now = std::chrono::steady_clock::now();
@@ -303,14 +313,14 @@ class PingListener : public fdds::DataReaderListener {
     ++sent_;
     ping_.sequence_number(static_cast<unsigned long long>(sent_));
     sent_at_ = std::chrono::steady_clock::now();
-    endpoint_->write(ping_);
+    endpoint_.load()->write(ping_);
     done_.notify_all();
   }
 
   const int warmup_;
   const int total_;
   const int give_up_after_;
-  Endpoint* endpoint_ = nullptr;
+  std::atomic<Endpoint*> endpoint_{nullptr};
   std::mutex mutex_;
   std::condition_variable done_;
   mtc::idl::InteractionSample ping_;
