@@ -131,6 +131,8 @@ case "$mode" in
       fail "mtc-cell exited with $?"
     check_bounded_run 6
     expect "middleware machine fastdds, robot cyclone, feeder fastdds\)" "the robot on Cyclone"
+    expect "robot +\| DDS middleware cyclone" "the robot's equipment built on Cyclone"
+    expect "machine +\| DDS middleware fastdds" "the machine's equipment built on Fast DDS"
     expect "all stations stopped, exit code 0" "a clean stop of every station" ;;
   middleware)
     "$cell" --help >"$log" 2>&1 || fail "mtc-cell --help exited with $?"
