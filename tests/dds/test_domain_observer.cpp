@@ -305,24 +305,37 @@ TEST(DomainObserver, ReportsLossWhenWriterIsDeleted) {
   EXPECT_EQ(rec.lost[0].first, "cnc-1");
 }
 
+// An 8 s lease: a loss could be told only after it, so within the waits
+// below only a leave can end a device.
+mtc::qos::Timing slow_timing() {
+  mtc::qos::Timing slow;
+  slow.heartbeat = 1s;
+  slow.missed_heartbeats = 8;
+  return slow;
+}
+
+// The device announced, a READY value and a heartbeat written, and all three
+// seen by the observer.
+bool announced_and_heard(RawDevice& dev, Recorder& rec) {
+  dev.announce();
+  dev.publish(mtc::idl::interaction_state::READY, 1);
+  dev.beat(1);
+  return rec.wait(
+      [&] { return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats > 0; });
+}
+
 // The leave said in data, its disposals lost (a Cyclone reader of a Fast
 // DDS device never gets them): told at once as the device gone, its items
 // lost. With an 8 s lease, a loss would be told only after it: the wait
 // below ends at half of it.
 TEST(DomainObserver, TakesALeavingHeartbeatAsTheLeave) {
-  mtc::qos::Timing slow;
-  slow.heartbeat = 1s;
-  slow.missed_heartbeats = 8;
+  const auto slow = slow_timing();
   Recorder rec;
   auto o = options(150);
   o.timing = slow;
   mtc::dds::DomainObserver observer(o, rec.callbacks());
   RawDevice dev(150, "cnc-leaving", slow);
-  dev.announce();
-  dev.publish(mtc::idl::interaction_state::READY, 1);
-  dev.beat(1);
-  ASSERT_TRUE(
-      rec.wait([&] { return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats > 0; }));
+  ASSERT_TRUE(announced_and_heard(dev, rec));
   dev.leave();
   ASSERT_TRUE(rec.wait([&] { return !rec.devices_lost.empty(); }, slow.lease() / 2));
   std::lock_guard<std::mutex> lock(rec.mutex);
@@ -343,19 +356,13 @@ bool saw_state(const Recorder& rec, mtc::core::InteractionState state) {
 // of a device that is gone, and take it back once the disposals came.
 TEST(DomainObserver, WhatALeftIncarnationWritesLaterIsNotNews) {
   constexpr int kDomain = 154;
-  mtc::qos::Timing slow;
-  slow.heartbeat = 1s;
-  slow.missed_heartbeats = 8;
+  const auto slow = slow_timing();
   Recorder rec;
   auto o = options(kDomain);
   o.timing = slow;
   mtc::dds::DomainObserver observer(o, rec.callbacks());
   RawDevice dev(kDomain, "cnc-left", slow);
-  dev.announce();
-  dev.publish(mtc::idl::interaction_state::READY, 1);
-  dev.beat(1);
-  ASSERT_TRUE(
-      rec.wait([&] { return !rec.devices.empty() && !rec.values.empty() && rec.heartbeats > 0; }));
+  ASSERT_TRUE(announced_and_heard(dev, rec));
   dev.leave();
   ASSERT_TRUE(rec.wait([&] { return !rec.devices_lost.empty(); }));
   dev.publish(mtc::idl::interaction_state::ACTIVE, 2);
