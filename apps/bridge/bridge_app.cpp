@@ -5,6 +5,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "mtc/dds/middleware.hpp"
+
 namespace mtc::bridge {
 
 namespace {
@@ -74,7 +76,8 @@ void BridgeApp::run(std::ostream& log) {
   log << "mtc-bridge: serving MTConnect " << to_string(agent_->schema_version()) << " on "
       << (server_->is_https() ? "https://" : "http://") << (v6 ? "[" : "")
       << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port() << "/ (DDS domains "
-      << domains.str() << "; devices from "
+      << domains.str() << " over " << dds::to_string(config_.observer.middleware)
+      << "; devices from "
       << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
                                              : config_.agent.devices_file)
       << (config_.observer.security_dir.empty()

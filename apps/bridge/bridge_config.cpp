@@ -186,15 +186,9 @@ void set_transport(BridgeConfig& c, std::string_view v, const std::string& origi
 }
 
 void set_middleware(BridgeConfig& c, std::string_view v, const std::string& origin) {
-  const auto middleware = dds::parse_middleware(v);
-  if (!middleware) {
-    fail(origin, "Middleware must be fastdds or cyclone, not '" + std::string(v) + "'");
-  }
-  if (!dds::middleware_available(*middleware)) {
-    fail(origin, "Middleware " + std::string(v) +
-                     ": this build has no such backend (configure with -DMTC_CYCLONE=ON)");
-  }
-  c.observer.middleware = *middleware;
+  auto choice = dds::choose_middleware(v);
+  if (!choice.middleware) fail(origin, "Middleware: " + choice.problem);
+  c.observer.middleware = *choice.middleware;
 }
 
 // Checked here so that a bad directory is told with the origin of the
@@ -317,8 +311,7 @@ const std::array<Setting, 30> kSettings{{
      set_transport,
      [](const BridgeConfig& c) { return std::string(qos::to_string(c.observer.transport)); }},
     {"Middleware", "--middleware",
-     "DDS implementation: fastdds or cyclone (cyclone: loopback transports, no SecurityDir)",
-     set_middleware,
+     "DDS implementation: fastdds or cyclone (cyclone: no SecurityDir yet)", set_middleware,
      [](const BridgeConfig& c) { return std::string(dds::to_string(c.observer.middleware)); }},
     {"TlsCertificateChain", "--tls-certificate",
      "HTTPS: PEM certificate chain (with TlsPrivateKey; default: plain HTTP)", set_tls_certificate},

@@ -74,19 +74,16 @@ struct Parsed {
 std::string parse_middleware(const std::string& v, mtc::cell::CellOptions& options) {
   const auto equals = v.find('=');
   const std::string name = equals == std::string::npos ? v : v.substr(equals + 1);
-  const auto middleware = mtc::dds::parse_middleware(name);
-  if (!middleware) return "unknown middleware '" + name + "' (fastdds or cyclone)";
-  if (!mtc::dds::middleware_available(*middleware)) {
-    return "--middleware " + name + ": this build has no such backend (configure with " +
-           "-DMTC_CYCLONE=ON)";
-  }
+  const auto choice = mtc::dds::choose_middleware(name);
+  if (!choice.middleware) return "--middleware: " + choice.problem;
+  const auto middleware = *choice.middleware;
   if (equals == std::string::npos) {
-    options.middleware.fill(*middleware);
+    options.middleware.fill(middleware);
     return {};
   }
   const auto station = mtc::cell::parse_station(v.substr(0, equals));
   if (!station) return "unknown station in --middleware '" + v + "' (machine, robot or feeder)";
-  options.middleware[static_cast<std::size_t>(*station)] = *middleware;
+  options.middleware[static_cast<std::size_t>(*station)] = middleware;
   return {};
 }
 

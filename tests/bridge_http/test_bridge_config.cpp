@@ -69,9 +69,9 @@ TEST(BridgeConfig, MiddlewareIsFastDdsOrCycloneWhereBuiltIn) {
     EXPECT_NE(error_of("Middleware = cyclone").find("configure with -DMTC_CYCLONE=ON"),
               std::string::npos);
   }
-  EXPECT_NE(
-      error_of("Middleware = opendds").find("Middleware must be fastdds or cyclone, not 'opendds'"),
-      std::string::npos);
+  EXPECT_NE(error_of("Middleware = opendds")
+                .find("Middleware: unknown middleware 'opendds' (fastdds or cyclone)"),
+            std::string::npos);
 }
 
 TEST(BridgeConfig, HelpShowsTheDefaultsOfTheOptionsItHolds) {

@@ -49,8 +49,10 @@ class RunningBridge {
     }
     const auto colon = line->rfind(':', line->find("/ ("));
     port_ = static_cast<std::uint16_t>(std::stoi(line->substr(colon + 1)));
+    serving_line_ = *line;
   }
   std::uint16_t port() const { return port_; }
+  const std::string& serving_line() const { return serving_line_; }
   ChildProcess& process() { return *process_; }
 
   std::optional<HttpResponse> get(const std::string& target) {
@@ -74,6 +76,7 @@ class RunningBridge {
  private:
   std::unique_ptr<ChildProcess> process_;
   std::uint16_t port_ = 0;
+  std::string serving_line_;
 };
 
 template <typename Condition>
@@ -325,6 +328,8 @@ TEST(BridgeEndToEnd, ABridgeOnCycloneFollowsADeviceOnFastDds) {
   }
   RunningBridge bridge({"--domain-ids", "85", "--heartbeat-ms", "100", "--middleware", "cyclone"});
   ASSERT_NE(bridge.port(), 0);
+  EXPECT_NE(bridge.serving_line().find("DDS domains 85 over cyclone;"), std::string::npos)
+      << bridge.serving_line();
   dds::EquipmentOptions options;
   options.domain_id = 85;
   options.device_uuid = "fastdds-machine";

@@ -51,6 +51,14 @@ TEST_P(MixedMiddleware, HandshakesCompleteAndAKilledResponderIsLost) {
   const auto out = outcomes(*requester);
   ASSERT_EQ(out.size(), 3u) << requester->transcript();
   for (const auto& o : out) EXPECT_EQ(o.result, "COMPLETE") << o.line;
+  // Each names the middleware it runs on in its start line.
+  const auto names = [](const char* middleware) {
+    return std::string("\"middleware\":\"") + middleware + "\"";
+  };
+  EXPECT_NE(responder->transcript().find(names(sides.responder)), std::string::npos)
+      << responder->transcript();
+  EXPECT_NE(requester->transcript().find(names(sides.others)), std::string::npos)
+      << requester->transcript();
 
   // The watcher saw the last handshake live; then the kill.
   ASSERT_TRUE(watch->wait_for_line({"\"event\":\"value\"", "\"device\":\"machine-1\"",
@@ -73,8 +81,9 @@ INSTANTIATE_TEST_SUITE_P(Cell, MixedMiddleware,
 TEST(MiddlewareOption, AnUnknownMiddlewareIsAUsageError) {
   auto p = start_mtc("list", 0, {"--middleware", "opensplice"});
   EXPECT_EQ(p->wait_exit(kStartTimeout), 2) << p->transcript();
-  EXPECT_NE(p->stderr_text().find("--middleware expects fastdds or cyclone, got 'opensplice'"),
-            std::string::npos)
+  EXPECT_NE(
+      p->stderr_text().find("--middleware: unknown middleware 'opensplice' (fastdds or cyclone)"),
+      std::string::npos)
       << p->transcript();
 }
 

@@ -47,7 +47,7 @@ qos::Transport transport_option(const ParsedArgs& args, const CommonOptions& com
 // --middleware: "fastdds" (the default) or "cyclone", when this build has it.
 void add_middleware_option(CommandSpec& spec) {
   spec.options.push_back({"middleware", "NAME",
-                          "DDS implementation: fastdds, or cyclone (loopback transports only, no "
+                          "DDS implementation: fastdds, or cyclone (every transport but test, no "
                           "security yet; a cell may mix the two)",
                           "fastdds"});
 }
@@ -55,15 +55,9 @@ void add_middleware_option(CommandSpec& spec) {
 dds::Middleware middleware_option(const ParsedArgs& args) {
   const auto text = args.value("middleware");
   if (!text) return dds::Middleware::FastDds;
-  const auto parsed = dds::parse_middleware(*text);
-  if (!parsed) {
-    throw UsageError("--middleware expects fastdds or cyclone, got '" + *text + "'");
-  }
-  if (!dds::middleware_available(*parsed)) {
-    throw UsageError("--middleware " + *text +
-                     ": this build has no such backend (configure with -DMTC_CYCLONE=ON)");
-  }
-  return *parsed;
+  auto choice = dds::choose_middleware(*text);
+  if (!choice.middleware) throw UsageError("--middleware: " + choice.problem);
+  return *choice.middleware;
 }
 
 // --heartbeat-ms / --missed-heartbeats over the qos::Timing defaults.

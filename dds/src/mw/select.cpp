@@ -29,6 +29,24 @@ bool middleware_available(Middleware m) noexcept {
 #endif
 }
 
+MiddlewareChoice choose_middleware(std::string_view text) {
+  MiddlewareChoice choice;
+  const auto parsed = parse_middleware(text);
+  if (!parsed) {
+    choice.problem = "unknown middleware '" + std::string(text) + "' (fastdds or cyclone)";
+  } else if (!middleware_available(*parsed)) {
+    choice.problem = missing_backend_message(*parsed);
+  } else {
+    choice.middleware = parsed;
+  }
+  return choice;
+}
+
+std::string missing_backend_message(Middleware m) {
+  return "this build of mtconnect-dds has no " + std::string(to_string(m)) +
+         " backend (configure with -DMTC_CYCLONE=ON)";
+}
+
 namespace mw {
 
 std::unique_ptr<Participant> make_participant(Middleware middleware, int domain_id,
@@ -43,8 +61,7 @@ std::unique_ptr<Participant> make_participant(Middleware middleware, int domain_
       break;
 #endif
   }
-  throw ConfigError("this build of mtconnect-dds has no " + std::string(to_string(middleware)) +
-                    " backend (configure with -DMTC_CYCLONE=ON)");
+  throw ConfigError(missing_backend_message(middleware));
 }
 
 }  // namespace mw
