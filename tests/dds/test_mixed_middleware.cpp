@@ -163,5 +163,20 @@ TEST(Middleware, SpellingsRoundTripAndThisBuildHasBoth) {
   EXPECT_FALSE(parse_middleware(""));
 }
 
+// Every tool words its refusal from here, so a misspelling reads the same in
+// mtc, mtc-cell and the bridge's configuration.
+TEST(Middleware, ChoosingNamesTheSpellingsWhenRefused) {
+  for (const auto m : kAllMiddlewares) {
+    const auto choice = choose_middleware(to_string(m));
+    EXPECT_EQ(choice.middleware, m);
+    EXPECT_EQ(choice.problem, "");
+  }
+  const auto refused = choose_middleware("Cyclone");
+  EXPECT_FALSE(refused.middleware);
+  EXPECT_EQ(refused.problem, "unknown middleware 'Cyclone' (fastdds or cyclone)");
+  EXPECT_NE(missing_backend_message(Middleware::Cyclone).find("-DMTC_CYCLONE=ON"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace mtc::dds::testing

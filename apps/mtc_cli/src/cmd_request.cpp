@@ -1,6 +1,7 @@
 // `mtc request`: act as the requester of one service and run handshakes.
 #include "command_session.hpp"
 #include "commands.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "request_runner.hpp"
 
 namespace mtc::cli {
@@ -24,6 +25,7 @@ int run_request(const ParsedArgs& args, Context& context) {
   RequestConfig config = parse_request(args);
   const auto& eq = config.equipment;
   const std::string service(core::to_string(eq.services.front()));
+  const std::string middleware(dds::to_string(eq.middleware));
   StartNotice notice;
   notice.json.field("event", "started")
       .field("device", eq.device_uuid)
@@ -32,9 +34,10 @@ int run_request(const ParsedArgs& args, Context& context) {
       .field("counterpart", eq.counterpart)
       .field("profile", eq.profile == core::Profile::V1_3 ? "1.3" : "1.6")
       .field("interface_state", eq.disabled ? "DISABLED" : "ENABLED")
-      .field("domain", eq.common.domain);
+      .field("domain", eq.common.domain)
+      .field("middleware", middleware);
   notice.text = "requesting " + service + " from " + eq.counterpart + " on domain " +
-                std::to_string(eq.common.domain);
+                std::to_string(eq.common.domain) + " over " + middleware;
   return run_with_equipment(eq, core::Role::Requester, notice, context,
                             [&](EquipmentLink& link, EventQueue& events) {
                               return RequestRunner(std::move(config), context, link, events).run();

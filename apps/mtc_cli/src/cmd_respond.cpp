@@ -1,6 +1,7 @@
 // `mtc respond`: act as the responder of one or more services.
 #include "command_session.hpp"
 #include "commands.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "respond_runner.hpp"
 
 namespace mtc::cli {
@@ -46,6 +47,7 @@ std::string service_list_json(const std::vector<core::Service>& services) {
 int run_respond(const ParsedArgs& args, Context& context) {
   RespondConfig config = parse_respond(args);
   const auto& eq = config.equipment;
+  const std::string middleware(dds::to_string(eq.middleware));
   StartNotice notice;
   notice.json.field("event", "ready")
       .field("device", eq.device_uuid)
@@ -53,9 +55,10 @@ int run_respond(const ParsedArgs& args, Context& context) {
       .raw_field("services", service_list_json(eq.services))
       .field("profile", eq.profile == core::Profile::V1_3 ? "1.3" : "1.6")
       .field("interface_state", eq.disabled ? "DISABLED" : "ENABLED")
-      .field("domain", eq.common.domain);
+      .field("domain", eq.common.domain)
+      .field("middleware", middleware);
   notice.text = "responding as " + eq.device_uuid + "/" + eq.interface_id + " on domain " +
-                std::to_string(eq.common.domain) + " (Ctrl-C to stop)";
+                std::to_string(eq.common.domain) + " over " + middleware + " (Ctrl-C to stop)";
   return run_with_equipment(eq, core::Role::Responder, notice, context,
                             [&](EquipmentLink& link, EventQueue& events) {
                               return RespondRunner(std::move(config), context, link, events).run();
