@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -143,6 +144,29 @@ INSTANTIATE_TEST_SUITE_P(Presets, QosMapping, ::testing::ValuesIn(qos::preset_na
                            std::replace(name.begin(), name.end(), '.', '_');
                            return name;
                          });
+
+// The network transport's configuration (the cell's hosts) is one Cyclone
+// takes: a domain made from it exists, on the interfaces named or on the one
+// Cyclone picks itself; an interface the host lacks is refused by Cyclone,
+// and a name that would break the XML is refused before it. Domain 199.
+TEST(CycloneNetworkConfig, CycloneTakesItAndItNamesEveryInterface) {
+  const auto domain_from = [](const std::string& config) {
+    const dds_entity_t domain = dds_create_domain(199, config.c_str());
+    if (domain > 0) {
+      EXPECT_EQ(dds_delete(domain), DDS_RETCODE_OK);
+    }
+    return domain;
+  };
+  const auto picked = qos::cyclone_network_config({}, {});
+  EXPECT_NE(picked.find("autodetermine=\"true\""), std::string::npos) << picked;
+  EXPECT_GT(domain_from(picked), 0) << picked;
+  const auto named = qos::cyclone_network_config({}, {"lo"});
+  EXPECT_NE(named.find("<NetworkInterface name=\"lo\"/>"), std::string::npos) << named;
+  EXPECT_EQ(named.find("AllowMulticast"), std::string::npos) << "standard discovery: " << named;
+  EXPECT_GT(domain_from(named), 0) << named;
+  EXPECT_LT(domain_from(qos::cyclone_network_config({}, {"mtc-absent0"})), 0);
+  EXPECT_THROW(qos::cyclone_network_config({}, {"eth0\"/><x"}), std::invalid_argument);
+}
 
 }  // namespace
 }  // namespace mtc::test::interop

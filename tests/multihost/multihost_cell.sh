@@ -13,15 +13,18 @@
 #      back in and both recover to READY with no restart, a second handshake
 #      completes, and a /sample?interval stream sees every request transition
 #      in order with no gap in sequence numbers.
-# Usage: multihost_cell.sh discovery|cable-pull PARTY MTC BRIDGE SCHEMA_DIR DOMAIN
-#   discovery: parts 1 and 2; cable-pull: part 3.
+#   4. mixed (issue 9 section 3): parts 1 and 3 with the robot on Cyclone DDS
+#      (its own network configuration: standard multicast discovery on the
+#      host's interfaces), the machine and the bridge on Fast DDS.
+# Usage: multihost_cell.sh discovery|cable-pull|mixed PARTY MTC BRIDGE SCHEMA_DIR DOMAIN
+#   discovery: parts 1 and 2; cable-pull: part 3; mixed: part 4.
 # Must run in a fresh loopback-only sandbox (the CMake entry clears
 # MTC_IN_NETNS and goes through scripts/netns-run.sh).
 set -uo pipefail
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 case "${1:-}" in -h | --help) usage; exit 0 ;; esac
 [ $# -eq 6 ] || { echo "multihost_cell.sh: 6 arguments expected" >&2; usage >&2; exit 2; }
-case "$1" in discovery | cable-pull) ;; *) echo "multihost_cell.sh: unknown mode '$1'" >&2; usage >&2; exit 2 ;; esac
+case "$1" in discovery | cable-pull | mixed) ;; *) echo "multihost_cell.sh: unknown mode '$1'" >&2; usage >&2; exit 2 ;; esac
 mode=$1 party=$2 mtc=$3 bridge=$4 schemas=$5 domain=$6
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 topo="$here/../../scripts/topology.sh"
@@ -30,6 +33,8 @@ lease_ms=1000  # 100 ms heartbeat x 10: step_party.cpp and the flags below
 bound_ms=$((lease_ms + 1000))
 participant_lease_ms=2000  # qos::Timing default
 timing=(--heartbeat-ms 100 --missed-heartbeats 10)
+robot_middleware=fastdds
+[ "$mode" = mixed ] && robot_middleware=cyclone
 
 work="$(mktemp -d)"
 pids=()
@@ -80,7 +85,7 @@ start_bridge() {  # start_bridge LOG [ENV...]
 handshakes_and_documents() {  # PHASE [ENV...]
   local phase=$1; shift
   bg_on "$work/$phase-robot.log" robot env "$@" "$mtc" respond --transport network "${timing[@]}" \
-    --domain "$domain" --device robot-1 --interface mh --service MATERIAL_LOAD --counterpart machine-1
+    --middleware "$robot_middleware" --domain "$domain" --device robot-1 --interface mh --service MATERIAL_LOAD --counterpart machine-1
   local robot=$last_pid
   on machine env "$@" timeout 60 "$mtc" request --transport network "${timing[@]}" --domain "$domain" \
     --device machine-1 --interface mh --service MATERIAL_LOAD --counterpart robot-1 --count 3 \
@@ -101,11 +106,16 @@ handshakes_and_documents() {  # PHASE [ENV...]
   echo "$phase: 3 handshakes completed across hosts; bridge lists both devices; schemas valid"
 }
 
-if [ "$mode" = discovery ]; then
 # --- 1. default discovery -----------------------------------------------------
+if [ "$mode" != cable-pull ]; then
 start_bridge "$work/bridge-default.log"
 handshakes_and_documents default
+grep -q "on domain $domain over $robot_middleware" "$work/default-robot.log" ||
+  fail "the robot did not run on $robot_middleware"
 stop "$bridge_pid"
+fi
+
+if [ "$mode" = discovery ]; then
 
 # --- 2. discovery server, no multicast route ---------------------------------
 for n in robot machine bridge; do on "$n" ip route del 224.0.0.0/4 || fail "route not removed"; done
@@ -139,7 +149,8 @@ for step in 1 2 3 4 5 6 7 8; do
   rfifo="$work/go-$step-robot" mfifo="$work/go-$step-machine" && mkfifo "$rfifo" "$mfifo"
   fifo="$work/go-$step-$holder"
   rlog="$work/pull$step-robot.log" mlog="$work/pull$step-machine.log"
-  bg_on "$rlog" robot "$party" responder "$domain" robot-1 machine-1 "$robot_hold" "$rfifo"
+  bg_on "$rlog" robot "$party" responder "$domain" robot-1 machine-1 "$robot_hold" "$rfifo" \
+    "$robot_middleware"
   robot=$last_pid
   bg_on "$mlog" machine "$party" requester "$domain" machine-1 robot-1 "$machine_hold" "$mfifo"
   machine=$last_pid
@@ -199,6 +210,6 @@ kill -TERM "$stream_pid" 2>/dev/null
 # --- the stream: every request transition of the machine, in order, no gaps ----
 lost=$(python3 "$here/check_stream.py" "$work/stream.xml" "$work"/pull?-machine.log) ||
   fail "stream check: $lost"
-echo "multihost summary: faults injected $faults, survived $survived, transitions lost $lost;" \
+echo "multihost summary (robot on $robot_middleware): faults injected $faults, survived $survived, transitions lost $lost;" \
   "detection ms (step:robot/machine) $figures; cable back to READY ms (step:robot/machine) $back_figures"
 [ "$lost" = 0 ] || fail "$lost transitions missing from the stream"

@@ -1,6 +1,6 @@
 // mtc-test-step-party: one side of a MATERIAL_LOAD handshake across hosts,
 // for the cable-pull test (tests/multihost/multihost_cell.sh). It uses the
-// Network transport (Fast DDS's built-in transports) and can hold at one
+// Network transport (on Fast DDS: its built-in transports) and can hold at one
 // point of Part 5 Table 1 so the test pulls the cable exactly there:
 //   1 requester, before request()             (step 1 is written while cut off)
 //   2 responder, request ACTIVE received       (step 2 is detected while cut off)
@@ -19,7 +19,10 @@
 // responder serves until SIGINT/SIGTERM.
 //
 // usage: mtc-test-step-party requester|responder DOMAIN DEVICE COUNTERPART HOLD GO_FIFO
+// [MIDDLEWARE]
 //   HOLD 0 = no hold; the hold point must belong to the given role.
+//   MIDDLEWARE fastdds (the default) or cyclone: the cable pulled between
+//   vendors (issue 9 section 3).
 #include <signal.h>
 #include <sys/prctl.h>
 
@@ -35,6 +38,7 @@
 #include <string>
 
 #include "mtc/dds/equipment.hpp"
+#include "mtc/dds/middleware.hpp"
 
 namespace {
 
@@ -98,9 +102,10 @@ struct Watch {
   bool link_up = false;
 };
 
-dds::EquipmentOptions options(int domain, const std::string& device) {
+dds::EquipmentOptions options(int domain, const std::string& device, dds::Middleware middleware) {
   dds::EquipmentOptions o;
   o.domain_id = domain;
+  o.middleware = middleware;
   o.device_uuid = device;
   o.transport = mtc::qos::Transport::Network;  // explicitly: the cell spans hosts
   o.timing.missed_heartbeats = 10;             // 1 s lease: a loaded 2-core CI machine
@@ -212,9 +217,11 @@ std::optional<int> number_in(const char* text, long low, long high) {
 }
 
 int usage(std::ostream& out, int code) {
-  out << "usage: mtc-test-step-party requester|responder DOMAIN DEVICE COUNTERPART HOLD GO_FIFO\n"
+  out << "usage: mtc-test-step-party requester|responder DOMAIN DEVICE COUNTERPART HOLD GO_FIFO "
+         "[MIDDLEWARE]\n"
          "  One side of MATERIAL_LOAD over the Network transport, holding at Table 1\n"
-         "  point HOLD (1-8, 0 = none) until the line \"go\" is read from GO_FIFO.\n";
+         "  point HOLD (1-8, 0 = none) until the line \"go\" is read from GO_FIFO.\n"
+         "  MIDDLEWARE: fastdds (default) or cyclone.\n";
   return code;
 }
 
@@ -222,13 +229,18 @@ int usage(std::ostream& out, int code) {
 
 int main(int argc, char** argv) {
   if (argc == 2 && std::string(argv[1]) == "--help") return usage(std::cout, 0);
-  if (argc != 7) return usage(std::cerr, 2);
+  if (argc != 7 && argc != 8) return usage(std::cerr, 2);
   const std::string role = argv[1];
   if (role != "requester" && role != "responder") return usage(std::cerr, 2);
   const bool requester = role == "requester";
   const auto domain = number_in(argv[2], 0, 232);
   const auto point = number_in(argv[5], 0, 8);
   if (!domain || !point) return usage(std::cerr, 2);
+  const auto middleware = dds::choose_middleware(argc == 8 ? argv[7] : "fastdds");
+  if (!middleware.middleware) {
+    std::cerr << "mtc-test-step-party: " << middleware.problem << "\n";
+    return 2;
+  }
   prctl(PR_SET_PDEATHSIG, SIGKILL);  // dies with the test that started it
   // Signals go to sigwait (responder) rather than killing the process.
   sigset_t set;
@@ -239,7 +251,8 @@ int main(int argc, char** argv) {
 
   Watch watch;
   Hold hold(*point, argv[6]);
-  dds::Equipment eq(options(*domain, argv[3]), callbacks(watch, hold, requester));
+  dds::Equipment eq(options(*domain, argv[3], *middleware.middleware),
+                    callbacks(watch, hold, requester));
   eq.add_interface({"mh", mtc::core::InterfaceType::MaterialHandler, "", {argv[4], "mh"}});
   if (requester) {
     eq.add_requester("mh", mtc::core::Service::MaterialLoad);

@@ -2,11 +2,20 @@
 // and writers (the tap is cyclone_tap.cpp).
 #include "cyclone_backend.hpp"
 
+#include <ifaddrs.h>
+#include <net/if.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <chrono>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <string>
+#include <system_error>
 #include <type_traits>
 #include <vector>
 
@@ -206,26 +215,50 @@ class CyclonePublisher final : public Publisher {
   WriterList writers_;  // emptied by the writers, which go before the publisher
 };
 
-// Only the transports Cyclone can keep on loopback, and no security yet.
+// The host's IPv4 interfaces that are up, can multicast and are not the
+// loopback: what Fast DDS's built-in UDP transport sends on, and so what a
+// Cyclone participant on the network transport must listen on to meet it.
+std::vector<std::string> multicast_interfaces() {
+  ifaddrs* raw = nullptr;
+  if (getifaddrs(&raw) != 0) {
+    throw ConfigError("cannot list the network interfaces: " +
+                      std::error_code(errno, std::generic_category()).message());
+  }
+  const std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> list(raw, freeifaddrs);
+  std::vector<std::string> names;
+  for (const ifaddrs* i = list.get(); i != nullptr; i = i->ifa_next) {
+    const unsigned wanted = IFF_UP | IFF_MULTICAST;
+    if (i->ifa_addr == nullptr || i->ifa_addr->sa_family != AF_INET) continue;
+    if ((i->ifa_flags & wanted) != wanted || (i->ifa_flags & IFF_LOOPBACK) != 0) continue;
+    if (std::find(names.begin(), names.end(), i->ifa_name) == names.end()) {
+      names.emplace_back(i->ifa_name);
+    }
+  }
+  return names;
+}
+
+// Every transport but Fast DDS's fault-injecting test transport; no security
+// yet.
 std::string domain_config(const qos::ParticipantConfig& config) {
   if (!config.security_dir.empty()) {
     throw ConfigError("the Cyclone DDS backend does not run DDS-Security yet; use Fast DDS");
   }
-  switch (config.transport) {
-    case qos::Transport::Loopback:
-    case qos::Transport::LoopbackUdp:
-      try {
+  try {
+    switch (config.transport) {
+      case qos::Transport::Loopback:
+      case qos::Transport::LoopbackUdp:
         return qos::cyclone_loopback_config(config.timing);
-      } catch (const std::invalid_argument& e) {
-        throw ConfigError(e.what());
-      }
-    case qos::Transport::LoopbackTest:
-    case qos::Transport::Network:
-      break;
+      case qos::Transport::Network:
+        return qos::cyclone_network_config(config.timing, multicast_interfaces());
+      case qos::Transport::LoopbackTest:
+        break;
+    }
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(e.what());
   }
-  throw ConfigError(std::string("the Cyclone DDS backend supports the loopback transports only"
-                                " so far, not '") +
-                    std::string(qos::to_string(config.transport)) + "'");
+  throw ConfigError(std::string("the Cyclone DDS backend has no '") +
+                    std::string(qos::to_string(config.transport)) +
+                    "' transport (it injects faults into Fast DDS's transports)");
 }
 
 class CycloneParticipant final : public Participant, public CycloneTopics {

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <iterator>
 #include <new>
+#include <stdexcept>
+#include <string>
 
 namespace mtc::qos {
 
@@ -102,30 +104,59 @@ CycloneQos cyclone_partition_qos(const std::vector<std::string>& partitions) {
   return qos;
 }
 
+namespace {
+
+std::string ms(std::chrono::milliseconds d) {
+  return std::to_string(d.count()) + "ms";
+}
+
+// Discovery and RTPS timing from `timing`, and key hashes (below), shared by
+// both configurations. GenerateKeyhash: Fast DDS 2.9 takes a deleted
+// endpoint's SEDP disposal by its key hash alone; without one, a Fast DDS
+// reader never unmatches a Cyclone writer deleted while its participant lives
+// (Mw/Backends.ADeletedWriterIsReportedUnmatched/CycloneToFastDds).
+std::string lease_and_heartbeat(const Timing& timing) {
+  return "<LeaseDuration>" + ms(timing.participant_lease) + "</LeaseDuration><SPDPInterval>" +
+         ms(timing.participant_announcement) + "</SPDPInterval></Discovery>" +
+         "<Internal><GenerateKeyhash>true</GenerateKeyhash><HeartbeatInterval>" +
+         ms(timing.reliable_heartbeat) + "</HeartbeatInterval></Internal>";
+}
+
+}  // namespace
+
 std::string cyclone_loopback_config(const Timing& timing) {
   validate(timing);
-  const auto ms = [](std::chrono::milliseconds d) { return std::to_string(d.count()) + "ms"; };
   // Peers 127.0.0.1 with participant index auto: Cyclone announces itself to
   // the well-known unicast discovery ports of the first 32 participant
   // indices on 127.0.0.1 and listens on one of them, which is what Fast DDS's
   // loopback transports do too, so the two find each other without multicast.
-  // GenerateKeyhash: Fast DDS 2.9 takes a deleted endpoint's SEDP disposal
-  // by its key hash alone; without one, a Fast DDS reader never unmatches a
-  // Cyclone writer deleted while its participant lives
-  // (Mw/Backends.ADeletedWriterIsReportedUnmatched/CycloneToFastDds).
   return "<CycloneDDS><Domain Id=\"any\">"
          "<General><Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
          "<AllowMulticast>false</AllowMulticast></General>"
          "<Discovery><Peers><Peer address=\"127.0.0.1\"/></Peers>"
          "<ParticipantIndex>auto</ParticipantIndex>"
-         "<MaxAutoParticipantIndex>31</MaxAutoParticipantIndex>"
-         "<LeaseDuration>" +
-         ms(timing.participant_lease) + "</LeaseDuration><SPDPInterval>" +
-         ms(timing.participant_announcement) +
-         "</SPDPInterval></Discovery>"
-         "<Internal><GenerateKeyhash>true</GenerateKeyhash><HeartbeatInterval>" +
-         ms(timing.reliable_heartbeat) +
-         "</HeartbeatInterval></Internal>"
+         "<MaxAutoParticipantIndex>31</MaxAutoParticipantIndex>" +
+         lease_and_heartbeat(timing) + "</Domain></CycloneDDS>";
+}
+
+std::string cyclone_network_config(const Timing& timing,
+                                   const std::vector<std::string>& interfaces) {
+  validate(timing);
+  // Discovery is the standard's: SPDP multicast to 239.255.0.1 on the
+  // domain's port, as Fast DDS's built-in UDP transport does, so either finds
+  // the other across hosts with no configuration shared between them.
+  std::string config = "<CycloneDDS><Domain Id=\"any\"><General><Interfaces>";
+  if (interfaces.empty()) {
+    config += "<NetworkInterface autodetermine=\"true\"/>";
+  }
+  for (const auto& name : interfaces) {
+    if (name.empty() || name.find_first_of("<>&\"'") != std::string::npos) {
+      throw std::invalid_argument("network interface name '" + name +
+                                  "' cannot go into a Cyclone configuration");
+    }
+    config += "<NetworkInterface name=\"" + name + "\"/>";
+  }
+  return config + "</Interfaces></General><Discovery>" + lease_and_heartbeat(timing) +
          "</Domain></CycloneDDS>";
 }
 

@@ -222,7 +222,7 @@ struct EquipmentOptions {
   qos::Transport transport = qos::Transport::Network;
   qos::FaultInjection faults;  // qos::Transport::LoopbackTest only
   // The DDS implementation (mtc/dds/middleware.hpp); equipment on different
-  // ones share a cell. Cyclone: the loopback transports, no security yet.
+  // ones share a cell. Cyclone: no security yet, and not the test transport.
   Middleware middleware = Middleware::FastDds;
   core::Profile profile = core::Profile::V1_6;
   RecoveryPolicy recovery = RecoveryPolicy::AfterCommsLoss;

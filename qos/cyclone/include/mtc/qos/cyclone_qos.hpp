@@ -48,4 +48,12 @@ CycloneQos cyclone_partition_qos(const std::vector<std::string>& partitions);
 // names an instance (Fast DDS 2.9 needs them to unmatch a deleted writer).
 std::string cyclone_loopback_config(const Timing& timing = {});
 
+// A Cyclone domain configuration for the cell's hosts (Transport::Network):
+// the named network interfaces (every one the host has up, as Fast DDS's
+// built-in UDP transport takes; none named: the one Cyclone determines
+// itself), standard multicast discovery, and the same timing and key hashes
+// as above. Throws std::invalid_argument for a name XML cannot carry.
+std::string cyclone_network_config(const Timing& timing,
+                                   const std::vector<std::string>& interfaces);
+
 }  // namespace mtc::qos
