@@ -179,6 +179,12 @@ class DdsRequestPort : public RequestPort {
            std::string(core::to_string(r_.counterpart_state()));
   }
 
+  std::string why_failed() override {
+    if (!result_ || result_->outcome == dds::Outcome::Completed) return {};
+    return std::string(dds::to_string(result_->outcome)) + ": " +
+           std::string(core::describe(result_->reason));
+  }
+
  private:
   dds::Requester& r_;
   Shared& shared_;

@@ -46,6 +46,9 @@ class RequestPort {
   virtual bool recover(Millis timeout) = 0;
   // "request READY, response FAIL": for the log when something is stuck.
   virtual std::string states() = 0;
+  // Why the last handshake failed, as the runtime told it ("Failed:
+  // counterpart went FAIL"); empty when the link does not say.
+  virtual std::string why_failed() { return {}; }
 };
 
 // The responding side of one service (a RESPONSE data item).

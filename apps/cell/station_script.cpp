@@ -64,8 +64,10 @@ Outcome request_service(Station& c, Service s, const char* responder, const std:
     c.say(format("%s%-15s done in %.1f ms, both READY", indent.c_str(), service_name(s).c_str(),
                  ms_since(t0)));
   } else {
-    c.say(format("%s%-15s %s after %.1f ms", indent.c_str(), service_name(s).c_str(),
-                 out == Outcome::Failed ? "FAILED (both sides FAIL)" : "TIMED OUT", ms_since(t0)));
+    const auto why = port.why_failed();
+    c.say(format("%s%-15s %s after %.1f ms%s%s", indent.c_str(), service_name(s).c_str(),
+                 out == Outcome::Failed ? "FAILED (both sides FAIL)" : "TIMED OUT", ms_since(t0),
+                 why.empty() ? "" : ": ", why.c_str()));
   }
   return out;
 }
