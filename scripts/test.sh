@@ -19,8 +19,9 @@
 # Environment: MTC_BUILD_DIR (default <repo>/build), MTC_TEST_JOBS (default 2),
 # MTC_FUZZ_SECONDS (each fuzz run, default 45), MTC_TEST_SLOWDOWN (sanitizer
 # runs: 2 for asan, 3 for tsan; tests/support/slowdown.hpp), MTC_TEST_MIDDLEWARE
-# (cyclone: every Equipment and DomainObserver of the tests on Cyclone DDS,
-# their raw peers still Fast DDS; tests/support/transport.hpp); the build is
+# (cyclone: every Equipment, DomainObserver, tool process and cell station of
+# the tests on Cyclone DDS, their raw peers still Fast DDS;
+# tests/support/transport.hpp, apps/cell/test_cell.sh); the build is
 # scripts/build.sh's (same configuration as ./scripts/start.sh).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
