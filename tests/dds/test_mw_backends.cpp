@@ -22,8 +22,10 @@
 #include <vector>
 
 #include "mtc/dds/error.hpp"
+#include "mtc/qos/cyclone_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "mw/cyclone_backend.hpp"
+#include "mw/cyclone_entities.hpp"
 #include "mw/middleware.hpp"
 #include "wire_values.hpp"
 
@@ -290,6 +292,37 @@ TEST(MwCyclone, ParticipantsOfOneDomainShareItsConfiguration) {
   first.reset();
   second.reset();
   EXPECT_NO_THROW(mw::make_cyclone_participant(kDomain, slower));
+}
+
+// The network transport names the host's interfaces, read once per domain:
+// a participant that joins a live domain asks for the same transport and
+// timing and shares it, whatever the interfaces are by then; only another
+// recipe is refused.
+TEST(MwCyclone, ADomainReadsTheHostsInterfacesOnceWhileItLives) {
+  int configs_made = 0;
+  auto recipe = [&configs_made](const std::string& name, const std::vector<std::string>& ifs) {
+    return mw::cyclone::DomainRecipe{name, [&configs_made, ifs] {
+                                       ++configs_made;
+                                       return qos::cyclone_network_config({}, ifs);
+                                     }};
+  };
+  {
+    const auto first = mw::cyclone::acquire_domain(kDomain, recipe("network", {"lo"}));
+    const auto later = mw::cyclone::acquire_domain(kDomain, recipe("network", {"mtc-absent0"}));
+    EXPECT_EQ(first, later);
+    EXPECT_EQ(configs_made, 1);
+    EXPECT_THROW(mw::cyclone::acquire_domain(kDomain, recipe("loopback", {})), ConfigError);
+    EXPECT_EQ(configs_made, 1);
+  }
+
+  qos::ParticipantConfig network;
+  network.transport = qos::Transport::Network;
+  auto one = mw::make_cyclone_participant(kDomain, network);
+  auto two = mw::make_cyclone_participant(kDomain, network);
+  EXPECT_NE(one->key(), two->key());
+  qos::ParticipantConfig slower = network;
+  slower.timing.reliable_heartbeat *= 2;
+  EXPECT_THROW(mw::make_cyclone_participant(kDomain, slower), ConfigError);
 }
 
 }  // namespace

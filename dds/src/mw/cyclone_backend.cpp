@@ -238,18 +238,30 @@ std::vector<std::string> multicast_interfaces() {
 }
 
 // Every transport but Fast DDS's fault-injecting test transport; no security
-// yet.
-std::string domain_config(const qos::ParticipantConfig& config) {
+// yet. The network transport's recipe is its configuration with no
+// interface named: the interfaces are the host's, read when the domain is
+// made (cyclone::DomainRecipe).
+cyclone::DomainRecipe domain_recipe(const qos::ParticipantConfig& config) {
   if (!config.security_dir.empty()) {
     throw ConfigError("the Cyclone DDS backend does not run DDS-Security yet; use Fast DDS");
   }
   try {
     switch (config.transport) {
       case qos::Transport::Loopback:
-      case qos::Transport::LoopbackUdp:
-        return qos::cyclone_loopback_config(config.timing);
-      case qos::Transport::Network:
-        return qos::cyclone_network_config(config.timing, multicast_interfaces());
+      case qos::Transport::LoopbackUdp: {
+        auto xml = qos::cyclone_loopback_config(config.timing);
+        return {xml, [xml] { return xml; }};
+      }
+      case qos::Transport::Network: {
+        const qos::Timing timing = config.timing;
+        return {"network " + qos::cyclone_network_config(timing, {}), [timing] {
+                  try {
+                    return qos::cyclone_network_config(timing, multicast_interfaces());
+                  } catch (const std::invalid_argument& e) {
+                    throw ConfigError(e.what());
+                  }
+                }};
+      }
       case qos::Transport::LoopbackTest:
         break;
     }
@@ -266,7 +278,7 @@ class CycloneParticipant final : public Participant, public CycloneTopics {
   CycloneParticipant(int domain_id, const qos::ParticipantConfig& config)
       : timing_(config.timing),
         domain_(
-            cyclone::acquire_domain(static_cast<dds_domainid_t>(domain_id), domain_config(config))),
+            cyclone::acquire_domain(static_cast<dds_domainid_t>(domain_id), domain_recipe(config))),
         participant_(
             dds_create_participant(static_cast<dds_domainid_t>(domain_id), nullptr, nullptr),
             "dds_create_participant") {}

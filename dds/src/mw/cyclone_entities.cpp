@@ -65,13 +65,13 @@ void Entity::reset() noexcept {
 
 class Domain {
  public:
-  Domain(dds_domainid_t id, std::string config)
-      : config_(std::move(config)),
-        domain_(dds_create_domain(id, config_.c_str()), "dds_create_domain") {}
-  const std::string& config() const noexcept { return config_; }
+  Domain(dds_domainid_t id, std::string recipe, const std::string& config)
+      : recipe_(std::move(recipe)),
+        domain_(dds_create_domain(id, config.c_str()), "dds_create_domain") {}
+  const std::string& recipe() const noexcept { return recipe_; }
 
  private:
-  std::string config_;
+  std::string recipe_;
   Entity domain_;
 };
 
@@ -82,11 +82,11 @@ std::mutex& domains_mutex() {
 }
 }  // namespace
 
-std::shared_ptr<Domain> acquire_domain(dds_domainid_t id, const std::string& config) {
+std::shared_ptr<Domain> acquire_domain(dds_domainid_t id, const DomainRecipe& wanted) {
   static std::map<dds_domainid_t, std::weak_ptr<Domain>> domains;
   const std::lock_guard<std::mutex> lock(domains_mutex());
   if (auto live = domains[id].lock()) {
-    if (live->config() != config) {
+    if (live->recipe() != wanted.recipe) {
       throw ConfigError("Cyclone DDS domain " + std::to_string(id) +
                         " already runs in this process with another timing or transport;"
                         " a Cyclone domain has one configuration per process");
@@ -95,7 +95,7 @@ std::shared_ptr<Domain> acquire_domain(dds_domainid_t id, const std::string& con
   }
   // Deleted under the lock, so that a participant made meanwhile never
   // meets the old domain half gone (Cyclone would refuse the id).
-  std::shared_ptr<Domain> made(new Domain(id, config), [](Domain* d) {
+  std::shared_ptr<Domain> made(new Domain(id, wanted.recipe, wanted.make_config()), [](Domain* d) {
     const std::lock_guard<std::mutex> held(domains_mutex());
     delete d;
   });

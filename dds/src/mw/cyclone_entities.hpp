@@ -7,6 +7,7 @@
 
 #include <dds/dds.h>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,9 +54,19 @@ using Listener = std::unique_ptr<dds_listener_t, ListenerDeleter>;
 // A Cyclone domain of this process: made with an explicit configuration
 // (never CYCLONEDDS_URI) on first use and deleted with its last participant.
 // Cyclone allows one domain per id in a process, so participants of one id
-// share it; a second configuration for a live id is a ConfigError (the
-// domain's timing would silently be the first one's).
+// share it; another recipe for a live id is a ConfigError (the domain's
+// timing would silently be the first one's).
+//
+// The recipe is what a participant asks for (transport and timing), the
+// configuration what the host made of it: the network transport's names the
+// host's interfaces, read only when the domain is made. So a second
+// participant of a domain reads no interfaces, and one made after an
+// interface came or went shares the domain instead of being refused.
 class Domain;
-std::shared_ptr<Domain> acquire_domain(dds_domainid_t id, const std::string& config);
+struct DomainRecipe {
+  std::string recipe;
+  std::function<std::string()> make_config;
+};
+std::shared_ptr<Domain> acquire_domain(dds_domainid_t id, const DomainRecipe& wanted);
 
 }  // namespace mtc::dds::mw::cyclone
