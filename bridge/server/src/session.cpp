@@ -11,6 +11,7 @@
 #include <boost/beast/http/read.hpp>
 #include <utility>
 
+#include "session_stream.hpp"
 #include "wire.hpp"
 
 namespace mtc::bridge::detail {
@@ -24,14 +25,9 @@ constexpr std::size_t kReadChunk = 4096;
 // we close it; draining first keeps the error from being lost to a reset.
 constexpr std::chrono::milliseconds kLingerTimeout{1000};
 constexpr std::size_t kLingerLimit = std::size_t{64} * 1024;
-// Final boundary of a stream at shutdown: a client that does not take it
-// quickly is simply closed.
-constexpr std::chrono::milliseconds kStreamEndTimeout{1000};
 // Answers up to this size always go (errors, /current, /probe); larger ones
 // count against ServerOptions::max_pending_bytes.
 constexpr std::size_t kSmallAnswer = std::size_t{64} << 10;
-// A stream part held back by max_pending_bytes is tried again after this.
-constexpr std::chrono::milliseconds kPendingRetry{50};
 // An answer this large is freed once written: a keep-alive client that
 // took a large sample and stays connected must not keep its copy alive.
 constexpr std::size_t kLargeBody = std::size_t{1} << 20;
@@ -62,23 +58,6 @@ bool names_other_http_version(std::string_view data) {
 }
 
 }  // namespace
-
-struct Session::Stream {
-  explicit Stream(const asio::any_io_executor& executor) : timer(executor) {}
-  StreamPlan plan;
-  std::string boundary;
-  asio::steady_timer timer;
-  Clock::time_point armed_for = Clock::time_point::max();
-  Clock::time_point last_part{};
-  std::uint64_t subscription = 0;
-  bool subscribed = false;
-  bool writing = false;
-  bool ending = false;            // shutdown asked for the final boundary
-  bool ended = false;             // the final boundary is on its way
-  bool stop_after_write = false;  // the agent answered an error part
-  std::atomic<bool> wake_pending{false};
-  std::array<char, 256> sink{};  // client bytes while streaming, discarded
-};
 
 Session::Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::uint64_t id,
                  std::string remote)
@@ -378,152 +357,6 @@ void Session::shutdown() {
       self->close();
     }
   });
-}
-
-// ---- streaming -------------------------------------------------------------
-
-void Session::start_stream(StreamPlan plan) {
-  stream_state_ = std::make_unique<Stream>(stream_.tcp().get_executor());
-  auto& state = *stream_state_;
-  state.plan = std::move(plan);
-  state.boundary = make_boundary();
-  // The producer thread only flips a flag and posts; all work happens here.
-  std::weak_ptr<Session> weak = shared_from_this();
-  state.subscription = shared_->agent->subscribe([weak] {
-    if (auto self = weak.lock()) {
-      if (!self->stream_state_->wake_pending.exchange(true)) {
-        asio::post(self->stream_.tcp().get_executor(), [self] { self->on_wake(); });
-      }
-    }
-  });
-  state.subscribed = true;
-
-  stream_.tcp().expires_never();
-  read_until_eof();  // notices a client that hangs up between parts
-  write_stream_head(head_, state.boundary, shared_->options.server_name);
-  write_part();  // head and first part leave together
-}
-
-void Session::read_until_eof() {
-  auto& sink = stream_state_->sink;
-  stream_.async_read_some(asio::buffer(sink),
-                          [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                            if (ec) {
-                              self->close();
-                              return;
-                            }
-                            self->read_until_eof();
-                          });
-}
-
-void Session::on_wake() {
-  if (!stream_state_) {
-    return;
-  }
-  stream_state_->wake_pending.store(false);
-  pump();
-}
-
-// Decides when the next part is due: new data, no sooner than `interval`
-// after the last part; with nothing new, a heartbeat after `heartbeat`;
-// /current?interval parts come every interval regardless.
-void Session::pump() {
-  if (closed_ || !stream_state_) {
-    return;
-  }
-  auto& state = *stream_state_;
-  if (state.writing || state.ended) {
-    return;
-  }
-  if (state.ending) {
-    write_stream_end();
-    return;
-  }
-  const bool has_data = shared_->agent->next_sequence() > state.plan.next_sequence;
-  const bool periodic = !state.plan.is_sample && state.plan.interval.count() > 0;
-  const auto wait = (has_data || periodic) ? state.plan.interval : state.plan.heartbeat;
-  const auto due = state.last_part + wait;
-  if (Clock::now() >= due) {
-    write_part();
-  } else {
-    arm_timer(due);
-  }
-}
-
-void Session::arm_timer(Clock::time_point due) {
-  auto& state = *stream_state_;
-  // A timer due no later stays: when it fires, pump() finds whether a part
-  // is due and arms it again. Moving it after every part (the heartbeat's
-  // due moves with each part) cost a cancel, an aborted handler and a new
-  // wait per part, for every client of a busy stream.
-  if (state.armed_for <= due) {
-    return;
-  }
-  state.armed_for = due;
-  state.timer.expires_at(due);
-  state.timer.async_wait([self = shared_from_this()](beast::error_code ec) {
-    if (ec == asio::error::operation_aborted) {
-      return;
-    }
-    self->stream_state_->armed_for = Clock::time_point::max();
-    self->pump();
-  });
-}
-
-void Session::write_part() {
-  auto& state = *stream_state_;
-  const StreamPlan before = state.plan;
-  Response part = shared_->agent->next_part(state.plan);
-  if (!hold_pending(part.body.size())) {
-    // Too much is waiting for clients: this part waits too, from where it
-    // started (the client may fall behind the buffer, then it is told).
-    state.plan = before;
-    arm_timer(Clock::now() + kPendingRetry);
-    return;
-  }
-  // An error part (e.g. the client fell out of the buffer) ends the stream.
-  state.stop_after_write = part.status != 200;
-  body_ = std::move(part.body);
-  // Appends: the first part leaves together with the stream head.
-  write_part_head(head_, state.boundary, part.content_type, body_.size());
-
-  state.writing = true;
-  stream_.tcp().expires_after(shared_->options.write_timeout);  // read side stays unbounded
-  const std::array<asio::const_buffer, 3> buffers{asio::buffer(head_), asio::buffer(body_),
-                                                  asio::buffer(kPartTail.data(), kPartTail.size())};
-  stream_.async_write(buffers, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-    self->on_part_written(ec, false);
-  });
-}
-
-void Session::write_stream_end() {
-  auto& state = *stream_state_;
-  state.ended = true;
-  state.writing = true;
-  state.timer.cancel();
-  detail::write_stream_end(head_, state.boundary);
-  stream_.tcp().expires_after(kStreamEndTimeout);
-  stream_.async_write(asio::buffer(head_),
-                      [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                        self->on_part_written(ec, true);
-                      });
-}
-
-void Session::on_part_written(beast::error_code ec, bool last) {
-  release_pending();
-  auto& state = *stream_state_;
-  state.writing = false;
-  head_.clear();
-  if (ec || last) {
-    close();
-    return;
-  }
-  if (state.stop_after_write) {
-    write_stream_end();
-    return;
-  }
-  state.last_part = Clock::now();
-  pump();
 }
 
 }  // namespace mtc::bridge::detail
