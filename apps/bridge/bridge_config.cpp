@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <sstream>
 
+#include "config_values.hpp"
 #include "mtc/bridge/schema_version.hpp"
 #include "mtc/bridge/xml_text.hpp"
 #include "mtc/dds/middleware.hpp"
@@ -16,6 +16,12 @@
 
 namespace mtc::bridge {
 namespace {
+
+using config_values::fail;
+using config_values::is_printable;
+using config_values::parse_int;
+using config_values::parse_ms;
+using config_values::split_list;
 
 using Setter = void (*)(BridgeConfig&, std::string_view value, const std::string& origin);
 // The setting's value in a configuration, as --help shows the default;
@@ -30,52 +36,6 @@ struct Setting {
   Setter set;
   Shower show = nullptr;
 };
-
-[[noreturn]] void fail(const std::string& origin, const std::string& message) {
-  throw ConfigError(origin + ": " + message);
-}
-
-template <typename Int>
-Int parse_int(std::string_view value, Int min, Int max, const std::string& origin,
-              std::string_view what) {
-  Int result{};
-  const auto* end = value.data() + value.size();
-  const auto parsed = std::from_chars(value.data(), end, result);
-  if (value.empty() || parsed.ec != std::errc() || parsed.ptr != end || result < min ||
-      result > max) {
-    fail(origin, std::string(what) + " must be an integer from " + std::to_string(min) + " to " +
-                     std::to_string(max) + ", not '" + std::string(value) + "'");
-  }
-  return result;
-}
-
-std::chrono::milliseconds parse_ms(std::string_view value, long min, long max,
-                                   const std::string& origin, std::string_view what) {
-  return std::chrono::milliseconds(parse_int<long>(value, min, max, origin, what));
-}
-
-// Comma- and/or space-separated items, none empty.
-std::vector<std::string_view> split_list(std::string_view value) {
-  std::vector<std::string_view> items;
-  std::size_t start = 0;
-  while (start <= value.size()) {
-    const auto end = value.find_first_of(", \t", start);
-    const auto item = value.substr(start, end == std::string_view::npos ? end : end - start);
-    if (!item.empty()) {
-      items.push_back(item);
-    }
-    if (end == std::string_view::npos) {
-      break;
-    }
-    start = end + 1;
-  }
-  return items;
-}
-
-bool is_printable(std::string_view value) {
-  return std::all_of(value.begin(), value.end(),
-                     [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; });
-}
 
 // BufferSize is an exponent, as in cppagent: the buffer holds 2^n.
 unsigned buffer_exponent(std::size_t buffer_size) {
