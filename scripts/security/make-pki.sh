@@ -157,6 +157,9 @@ sign() { # file.xml -> file.p7s, S/MIME signed by the CA
 }
 
 # ------------------------------------------------------------ governance
+# Domains 0-230: DDS allows 232, but Cyclone DDS 0.10's access control
+# refuses a governance or permissions document naming an id above 230 ("Can
+# not parse governance file"), and one PKI secures both middlewares.
 governance() {
   cat <<'EOF'
 <?xml version="1.0" encoding="utf-8"?>
@@ -165,7 +168,7 @@ governance() {
      xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-Security/20170801/omg_shared_ca_governance.xsd">
   <domain_access_rules>
     <domain_rule>
-      <domains><id_range><min>0</min><max>232</max></id_range></domains>
+      <domains><id_range><min>0</min><max>230</max></id_range></domains>
       <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
       <enable_join_access_control>true</enable_join_access_control>
       <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
@@ -217,7 +220,7 @@ permissions() {
       <subject_name>CN=$name,O=mtconnect-dds</subject_name>
       <validity><not_before>$2</not_before><not_after>$3</not_after></validity>
       <allow_rule>
-        <domains><id_range><min>0</min><max>232</max></id_range></domains>
+        <domains><id_range><min>0</min><max>230</max></id_range></domains>
 EOF
   if [ ${#pub_topics[@]} -gt 0 ]; then
     printf '        <publish>\n          <topics>\n'

@@ -257,8 +257,9 @@ INSTANTIATE_TEST_SUITE_P(Mw, Backends,
                          name_of);
 
 // What the Cyclone backend cannot honour is refused at once, saying so: Fast
-// DDS's fault-injecting test transport, and security (not yet).
-TEST(MwCyclone, RefusesTransportsAndSecurityItCannotHonour) {
+// DDS's fault-injecting test transport, a security directory that is not
+// there (the pre-flight check, before Cyclone sees it), a bad timing.
+TEST(MwCyclone, RefusesWhatItCannotHonour) {
   qos::ParticipantConfig faulty;
   faulty.transport = qos::Transport::LoopbackTest;
   try {
@@ -270,7 +271,12 @@ TEST(MwCyclone, RefusesTransportsAndSecurityItCannotHonour) {
   qos::ParticipantConfig secure;
   secure.transport = qos::Transport::LoopbackUdp;
   secure.security_dir = "/nonexistent";
-  EXPECT_THROW(mw::make_cyclone_participant(kDomain, secure), ConfigError);
+  try {
+    mw::make_cyclone_participant(kDomain, secure);
+    FAIL() << "a participant with a missing security directory was made";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent"), std::string::npos) << e.what();
+  }
   qos::ParticipantConfig bad_timing;
   bad_timing.transport = qos::Transport::LoopbackUdp;
   bad_timing.timing.missed_heartbeats = 1;

@@ -11,6 +11,7 @@
 #include <array>
 #include <cerrno>
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -237,14 +238,12 @@ std::vector<std::string> multicast_interfaces() {
   return names;
 }
 
-// Every transport but Fast DDS's fault-injecting test transport; no security
-// yet. The network transport's recipe is its configuration with no
-// interface named: the interfaces are the host's, read when the domain is
-// made (cyclone::DomainRecipe).
+// Every transport but Fast DDS's fault-injecting test transport. The
+// network transport's recipe is its configuration with no interface named:
+// the interfaces are the host's, read when the domain is made
+// (cyclone::DomainRecipe). Security is the participant's, not the domain's
+// (participant_qos below).
 cyclone::DomainRecipe domain_recipe(const qos::ParticipantConfig& config) {
-  if (!config.security_dir.empty()) {
-    throw ConfigError("the Cyclone DDS backend does not run DDS-Security yet; use Fast DDS");
-  }
   try {
     switch (config.transport) {
       case qos::Transport::Loopback:
@@ -273,15 +272,41 @@ cyclone::DomainRecipe domain_recipe(const qos::ParticipantConfig& config) {
                     "' transport (it injects faults into Fast DDS's transports)");
 }
 
+// DDS-Security: the directory is checked first, so that a bad file is named
+// (Cyclone only logs why it refused a participant), then handed to Cyclone's
+// builtin plugins by absolute path. No security: Cyclone's default QoS.
+qos::CycloneQos participant_qos(const qos::ParticipantConfig& config) {
+  if (config.security_dir.empty()) return nullptr;
+  if (auto problem = qos::check_security_dir(config.security_dir)) throw ConfigError(*problem);
+  std::error_code ec;
+  const auto dir = std::filesystem::canonical(config.security_dir, ec);
+  return qos::cyclone_security_qos(ec ? config.security_dir : dir.string(),
+                                   qos::cyclone_security_plugin_dir());
+}
+
+dds_entity_t create_participant(int domain_id, const qos::ParticipantConfig& config) {
+  const auto qos = participant_qos(config);
+  const dds_entity_t participant =
+      dds_create_participant(static_cast<dds_domainid_t>(domain_id), qos.get(), nullptr);
+  // The files passed the pre-flight check, so Cyclone disliked their
+  // content (a grant for another subject, a domain id above 230), or its
+  // plugins did not load: its log line above says which.
+  if (participant < 0 && qos) {
+    throw CreationError("dds_create_participant(domain " + std::to_string(domain_id) +
+                        "): Cyclone DDS refused the DDS-Security files in " + config.security_dir +
+                        " (" + dds_strretcode(participant) + "; plugins from '" +
+                        qos::cyclone_security_plugin_dir() + "': see the security log above)");
+  }
+  return participant;
+}
+
 class CycloneParticipant final : public Participant, public CycloneTopics {
  public:
   CycloneParticipant(int domain_id, const qos::ParticipantConfig& config)
       : timing_(config.timing),
         domain_(
             cyclone::acquire_domain(static_cast<dds_domainid_t>(domain_id), domain_recipe(config))),
-        participant_(
-            dds_create_participant(static_cast<dds_domainid_t>(domain_id), nullptr, nullptr),
-            "dds_create_participant") {}
+        participant_(create_participant(domain_id, config), "dds_create_participant") {}
 
   ParticipantKey key() const override {
     dds_guid_t guid;

@@ -222,7 +222,8 @@ struct EquipmentOptions {
   qos::Transport transport = qos::Transport::Network;
   qos::FaultInjection faults;  // qos::Transport::LoopbackTest only
   // The DDS implementation (mtc/dds/middleware.hpp); equipment on different
-  // ones share a cell. Cyclone: no security yet, and not the test transport.
+  // ones share a cell. Cyclone: not the test transport; secured, see
+  // docs/security.md for a mixed cell.
   Middleware middleware = Middleware::FastDds;
   core::Profile profile = core::Profile::V1_6;
   RecoveryPolicy recovery = RecoveryPolicy::AfterCommsLoss;

@@ -14,7 +14,7 @@ namespace mtc::dds {
 
 enum class Middleware : std::uint8_t {
   FastDds,  // eProsima Fast DDS 2.9: every transport, DDS-Security
-  Cyclone,  // Eclipse Cyclone DDS 0.10: UDP (network and loopback), no security yet
+  Cyclone,  // Eclipse Cyclone DDS 0.10: UDP (network and loopback), DDS-Security
 };
 
 inline constexpr std::array<Middleware, 2> kAllMiddlewares = {Middleware::FastDds,

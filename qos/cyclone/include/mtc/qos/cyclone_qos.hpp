@@ -56,4 +56,17 @@ std::string cyclone_loopback_config(const Timing& timing = {});
 std::string cyclone_network_config(const Timing& timing,
                                    const std::vector<std::string>& interfaces);
 
+// DDS-Security on Cyclone: the participant QoS that loads Cyclone's builtin
+// plugins (authentication PKI-DH, access control, AES-GCM-GMAC
+// cryptography) with the files of an absolute security directory
+// (kSecurityFiles), the same PKI, governance and permissions Fast DDS takes
+// through security_properties(). `plugin_dir` holds Cyclone's
+// libdds_security_*.so (Debian: <libdir>/libddsc0debian, found by CMake);
+// empty: Cyclone looks them up by name. The directory is not checked here:
+// check_security_dir() does that first, naming the file.
+CycloneQos cyclone_security_qos(const std::string& dir, const std::string& plugin_dir);
+
+// The directory of Cyclone's security plugins this build found, or empty.
+std::string cyclone_security_plugin_dir();
+
 }  // namespace mtc::qos
