@@ -8,8 +8,9 @@
 #   test_cell.sh mixed  <mtc-cell> <domain>        the same with the robot on Cyclone DDS
 #                                                   and the machine and feeder on Fast DDS
 #   test_cell.sh mixedsecure <mtc-cell> <domain>  the same secured (a fresh test PKI), with
-#                                                   the machine on Cyclone DDS: the side that
-#                                                   begins every authentication (see
+#                                                   the machine and the bridge (HTTP port
+#                                                   5000 + domain) on Cyclone DDS: the sides
+#                                                   that begin the authentications (see
 #                                                   docs/security.md)
 #   test_cell.sh commsloss <mtc-cell> <domain> <middleware>
 #                                                   scenario 6: the robot and the feeder
@@ -158,9 +159,24 @@ case "$mode" in
     trap 'rm -f "$log"; rm -rf "$pki"' EXIT
     "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" --out "$pki/cell" \
       >"$log" 2>&1 || fail "make-pki.sh exited with $?"
+    # The bridge on Cyclone too: mtc-bridge begins with every station.
+    port=$((5000 + $3))
+    : >"$pki/bridge.log"  # before tail reads it: the bridge starts in the background
+    "$(dirname "$cell")/mtc-bridge" --transport loopback --domain-ids "$3" --port "$port" \
+      --middleware cyclone --security "$pki/cell/mtc-bridge" >"$pki/bridge.log" 2>&1 &
+    bridge_pid=$!
+    timeout 30 grep -m1 -q "serving MTConnect" <(tail -n +1 -f "$pki/bridge.log") ||
+      { kill "$bridge_pid"; cat "$pki/bridge.log" >"$log"; fail "the bridge did not start"; }
     timeout 150 "$cell" --transport loopback --middleware machine=cyclone --security "$pki/cell" \
       --cycles 6 --fail-every 2 --seed 7 --pace-ms 10 --domain "$3" >"$log" 2>&1 ||
-      fail "mtc-cell exited with $?"
+      { kill "$bridge_pid"; fail "mtc-cell exited with $?"; }
+    current="$(curl -sf "http://127.0.0.1:$port/current")" || { kill "$bridge_pid"; fail "no /current"; }
+    kill -INT "$bridge_pid"
+    wait "$bridge_pid" || fail "mtc-bridge exited with $? after SIGINT"
+    cat "$pki/bridge.log" >>"$log"
+    for station in machine robot feeder; do
+      grep -q "uuid=\"cell-$station\"" <<<"$current" || fail "the bridge did not see cell-$station"
+    done
     check_bounded_run 6
     expect "machine +\| DDS middleware cyclone" "the machine's equipment built on Cyclone"
     expect "robot +\| DDS middleware fastdds" "the robot's equipment built on Fast DDS"
