@@ -36,6 +36,8 @@ for _ in $(seq 100); do
   sleep 0.1
 done
 # --hold-ms: the devices stay alive while the bridge is asked about them.
+# The log exists before tail follows it: the background redirect may not.
+: >"$work/example.log"
 "$example" --domain "$domain" --cycles 3 --hold-ms 60000 >"$work/example.log" 2>&1 &
 example_pid=$!
 timeout 60 grep -m1 -q "loads COMPLETE" <(tail -n +1 -f "$work/example.log") ||
