@@ -159,6 +159,10 @@ case "$mode" in
     trap 'rm -f "$log"; rm -rf "$pki"' EXIT
     "$root/scripts/security/make-pki.sh" --cell "$root/scripts/security/cell.txt" --out "$pki/cell" \
       >"$log" 2>&1 || fail "make-pki.sh exited with $?"
+    # make-pki.sh's prediction of who begins: what the run below relies on.
+    order="$(paste -sd' ' "$pki/cell/authentication-order.txt")"
+    [[ "$order" == "mtc-bridge cell-machine "* ]] ||
+      fail "authentication order '$order': the bridge and the machine do not begin"
     # The bridge on Cyclone too: mtc-bridge begins with every station.
     port=$((5000 + $3))
     : >"$pki/bridge.log"  # before tail reads it: the bridge starts in the background

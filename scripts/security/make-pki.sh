@@ -29,8 +29,10 @@
 #
 # Each identity directory holds ca.pem (identity and permissions CA),
 # cert.pem, key.pem, governance.p7s and permissions.p7s (S/MIME signed by
-# the CA, as DDS-Security requires). Exit code 2 on bad usage or a bad cell
-# description.
+# the CA, as DDS-Security requires). DIR/authentication-order.txt lists the
+# identities in the order they begin DDS-Security authentications, which a
+# cell mixing Fast DDS and Cyclone DDS must respect (docs/security.md).
+# Exit code 2 on bad usage or a bad cell description.
 set -euo pipefail
 set -f  # lists are split on commas below; `reads=*` must stay a '*'
 usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
@@ -270,3 +272,31 @@ for i in "${!names[@]}"; do
   mv "$work/permissions.p7s" "$dir/permissions.p7s"
   echo "make-pki.sh: $dir (${kinds[$i]})"
 done
+
+# ------------------------------------------------- authentication order
+# Which of two identities begins their DDS-Security authentication: each
+# participant's GUID starts with the SHA-256 of its certificate subject
+# (DER), and the lower begins. That matters in a cell that mixes Fast DDS
+# 2.9 and Cyclone DDS 0.10: they meet only when the Cyclone side begins
+# (docs/security.md). Written to DIR/authentication-order.txt, first begins.
+subject_sha256() {
+  local span offset length
+  # The subject is the fifth field of the certificate body, after the
+  # serial, the signature algorithm, the issuer and the validity ([0], the
+  # version, is skipped).
+  span="$(openssl asn1parse -in "$1" | awk '/d=2/ && !/cont \[ 0 \]/ {
+      if (++n == 5) {
+        match($0, /^ *[0-9]+/); offset = substr($0, RSTART, RLENGTH) + 0
+        match($0, /hl= *[0-9]+/); header = substr($0, RSTART + 3, RLENGTH - 3) + 0
+        match($0, / l= *[0-9]+/); body = substr($0, RSTART + 3, RLENGTH - 3) + 0
+        print offset, header + body; exit
+      } }')"
+  read -r offset length <<<"$span"
+  openssl x509 -in "$1" -outform DER | tail -c +$((offset + 1)) | head -c "$length" |
+    sha256sum | cut -d' ' -f1
+}
+for name in "${names[@]}"; do
+  echo "$(subject_sha256 "$out/$name/cert.pem") $name"
+done | sort | cut -d' ' -f2 >"$out/authentication-order.txt"
+echo "make-pki.sh: authentication order, first begins (a Cyclone DDS identity must come" \
+  "before its Fast DDS peers, docs/security.md): $(paste -sd' ' "$out/authentication-order.txt")"
