@@ -289,8 +289,8 @@ subject_sha256() {
         match($0, /^ *[0-9]+/); offset = substr($0, RSTART, RLENGTH) + 0
         match($0, /hl= *[0-9]+/); header = substr($0, RSTART + 3, RLENGTH - 3) + 0
         match($0, / l= *[0-9]+/); body = substr($0, RSTART + 3, RLENGTH - 3) + 0
-        print offset, header + body; exit
-      } }')"
+        print offset, header + body
+      } }')"  # awk reads to the end: no SIGPIPE for openssl under pipefail
   read -r offset length <<<"$span"
   openssl x509 -in "$1" -outform DER | tail -c +$((offset + 1)) | head -c "$length" |
     sha256sum | cut -d' ' -f1
