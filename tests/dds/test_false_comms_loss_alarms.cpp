@@ -130,6 +130,7 @@ TEST(FalseAlarms, SilentInstanceOfALiveCounterpartDoesNotLoseTheLink) {
   };
   auto oo = mtc::test::loopback<DomainObserverOptions>();
   oo.domain_id = 56;
+  oo.timing = timing;  // a shorter lease than the writers offer would not match them
   DomainObserver observer(oo, ocb);
   SilentHeartbeat retired(56, "robot-fa", "robot-fa-retired", timing);
   ASSERT_TRUE(rec.wait([&] { return extra_beats.load() >= 3; }));
