@@ -22,6 +22,7 @@
 #include "mtc/dds/error.hpp"
 #include "mtc/qos/participant_qos.hpp"
 #include "security_pki.hpp"
+#include "security_test_helpers.hpp"
 #include "transport.hpp"
 
 namespace mtc::dds::testing {
@@ -29,20 +30,13 @@ namespace {
 
 using core::InterfaceType;
 using security_test::Pki;
+using security_test::secured_timing;
+using security_test::what_of;
 using namespace std::chrono_literals;
-
-// A 1 s lease, as in test_dds_security.cpp: security handshakes and crypto
-// on two shared cores must not look like a lost peer.
-qos::Timing test_timing() {
-  qos::Timing t;
-  t.heartbeat = std::chrono::milliseconds(200);
-  t.missed_heartbeats = 5;
-  return t;
-}
 
 EquipmentOptions secured_on(Middleware middleware, int domain, const std::string& identity) {
   auto o = options(domain, identity, qos::Transport::LoopbackUdp);
-  o.timing = test_timing();
+  o.timing = secured_timing();
   o.middleware = middleware;
   o.security_dir = Pki::get().dir(identity);
   return o;
@@ -55,15 +49,6 @@ class CycloneSecurity : public ::testing::Test {
   static void SetUpTestSuite() { qos::set_intraprocess_delivery(false); }
   static void TearDownTestSuite() { qos::set_intraprocess_delivery(true); }
 };
-
-std::string what_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no exception)";
-}
 
 // A machine requests MATERIAL_LOAD, a robot responds, both secured, each on
 // its own middleware.
@@ -169,7 +154,7 @@ TEST_F(CycloneSecurity, AnUnauthenticatedObserverSeesNothingOfASecuredCycloneRob
     oo.domain_id = kDomain;
     oo.transport = qos::Transport::LoopbackUdp;
     oo.middleware = Middleware::FastDds;
-    oo.timing = test_timing();
+    oo.timing = secured_timing();
     if (!identity.empty()) oo.security_dir = Pki::get().dir(identity);
     DomainObserverCallbacks cb;
     cb.on_device = [&](const ObservedDevice& d) {

@@ -26,6 +26,7 @@
 #include "mtc/qos/participant_qos.hpp"
 #include "mtc/qos/presets.hpp"
 #include "security_pki.hpp"
+#include "security_test_helpers.hpp"
 #include "transport.hpp"
 
 namespace mtc::dds::testing {
@@ -34,6 +35,8 @@ namespace {
 using core::InterfaceType;
 using core::SubType;
 using security_test::Pki;
+using security_test::secured_timing;
+using security_test::what_of;
 namespace topics = detail::topics;
 namespace fdds = eprosima::fastdds::dds;
 
@@ -43,30 +46,12 @@ class Security : public ::testing::Test {
   static void TearDownTestSuite() { qos::set_intraprocess_delivery(true); }
 };
 
-// A 1 s lease: security handshakes and crypto on 2 shared cores must not
-// look like a lost peer.
-qos::Timing test_timing() {
-  qos::Timing t;
-  t.heartbeat = std::chrono::milliseconds(200);
-  t.missed_heartbeats = 5;
-  return t;
-}
-
 EquipmentOptions secured(int domain, const std::string& uuid, const std::string& identity,
                          qos::Transport transport = qos::Transport::LoopbackUdp) {
   auto o = options(domain, uuid, transport);
-  o.timing = test_timing();
+  o.timing = secured_timing();
   o.security_dir = Pki::get().dir(identity);
   return o;
-}
-
-std::string what_of(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no exception)";
 }
 
 // A hand-made participant (optionally secured) with one interaction writer
@@ -81,7 +66,7 @@ class RawParticipant {
     qos::ParticipantConfig c;
     c.name = "raw";
     c.transport = qos::Transport::LoopbackUdp;
-    c.timing = test_timing();
+    c.timing = secured_timing();
     c.security_dir = security_dir;
     return c;
   }
@@ -89,9 +74,9 @@ class RawParticipant {
   detail::Topic& topic(SubType side, core::Service service) {
     auto& t = topics_[{side, service}];
     if (!t) {
-      t = std::make_unique<detail::Topic>(participant_, topics::interaction_topic(side, service),
-                                          "mtc::idl::InteractionSample",
-                                          qos::fastdds_topic_qos(qos::state_topic(test_timing())));
+      t = std::make_unique<detail::Topic>(
+          participant_, topics::interaction_topic(side, service), "mtc::idl::InteractionSample",
+          qos::fastdds_topic_qos(qos::state_topic(secured_timing())));
     }
     return *t;
   }
@@ -102,8 +87,8 @@ class RawParticipant {
     publisher_ = std::make_unique<detail::Publisher>(
         participant_, std::vector<std::string>{topics::device_partition(partition_uuid)});
     writer_ = std::make_unique<detail::Writer<idl::InteractionSample>>(
-        *publisher_, topic(side, service), qos::fastdds_writer_qos(qos::state_topic(test_timing())),
-        listener_);
+        *publisher_, topic(side, service),
+        qos::fastdds_writer_qos(qos::state_topic(secured_timing())), listener_);
   }
   // `on_data` is called (from a Fast DDS thread, after the samples are
   // counted) when samples arrive, so a test can wait for them.
@@ -114,7 +99,7 @@ class RawParticipant {
         participant_, std::vector<std::string>{topics::device_partition(partition_uuid)});
     reader_ = std::make_unique<detail::Reader>(
         *subscriber_, topic(side, core::Service::MaterialLoad),
-        qos::fastdds_reader_qos(qos::state_topic(test_timing())), &reader_listener_);
+        qos::fastdds_reader_qos(qos::state_topic(secured_timing())), &reader_listener_);
   }
   // Writes, as `uuid`, the mh1 item of (service, side) in `state`, on
   // whichever topic the writer has.
@@ -407,7 +392,7 @@ TEST_F(Security, DeviceCannotRespondForAServiceItDoesNotProvide) {
   DomainObserverOptions oo;
   oo.domain_id = kDomain;
   oo.transport = qos::Transport::LoopbackUdp;
-  oo.timing = test_timing();
+  oo.timing = secured_timing();
   oo.security_dir = Pki::get().dir("sec-watcher");
   DomainObserverCallbacks ocb;
   ocb.on_protocol_violation = [&](const std::string&, const std::string& report) {
