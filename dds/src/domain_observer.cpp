@@ -441,6 +441,7 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
     }
   }
   auto* impl = impl_.get();
+  impl->executor.set_inline_steps(options.inline_steps);
   impl->executor.start(
       [impl] { return std::min(impl->next_silence_check(), impl->reannounce.next()); },
       [impl](detail::Executor::Clock::time_point now) {
@@ -457,10 +458,19 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
   tc.partitions = {"*"};
   tc.timing = options.timing;
   tc.observer = true;
+  // Only values may be handled on the middleware's thread (inline steps):
+  // statuses come from threads that hold Fast DDS's discovery and timer
+  // locks (as in the Equipment's tap_sink).
   impl->tap = impl->participant->tap(tc, [impl](detail::TapEvent&& event) {
-    impl->executor.post([impl, ev = std::move(event)]() mutable {
+    const bool value = std::holds_alternative<detail::ValueEvent>(event);
+    auto task = [impl, ev = std::move(event)]() mutable {
       std::visit([impl](auto& e) { impl->handle(e); }, ev);
-    });
+    };
+    if (value) {
+      impl->executor.dispatch(std::move(task));
+    } else {
+      impl->executor.post(std::move(task));
+    }
   });
   // Posted: the executor reads the tap from then on.
   impl->executor.post([impl, lease = options.timing.participant_lease] {

@@ -8,6 +8,9 @@
 //
 // Threading: DDS listeners only copy samples into a queue; every callback
 // below runs on the observer's single dispatch thread, in arrival order.
+// With DomainObserverOptions::inline_steps, a received sample that finds the
+// observer idle is handled at once on the middleware's thread instead: still
+// one callback at a time and in order, but possibly on that thread.
 #pragma once
 
 #include <chrono>
@@ -99,6 +102,14 @@ struct DomainObserverOptions {
   // stderr). A device's loss is reported after its own lease. No DEADLINE is
   // requested, so devices with any heartbeat period match.
   qos::Timing timing;
+  // false: every DDS event is handed to the observer's dispatch thread.
+  // true: a received sample that finds the observer idle is handled, and its
+  // callbacks run, at once on the middleware's receive thread: a thread
+  // hand-off less between a device's write and the callback (the bridge's
+  // DDS-to-client latency, docs/benchmarks.md). Statuses (matches, lost
+  // writers, liveliness) are still handed over. Callbacks stay one at a
+  // time and in order, but must not block: they hold up the receive thread.
+  bool inline_steps = false;
 };
 
 class DomainObserver {
