@@ -77,7 +77,7 @@ void BridgeApp::run(std::ostream& log) {
       << (server_->is_https() ? "https://" : "http://") << (v6 ? "[" : "")
       << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port() << "/ (DDS domains "
       << domains.str() << " over " << dds::to_string(config_.observer.middleware)
-      << "; devices from "
+      << (config_.observer.inline_steps ? ", inline steps" : "") << "; devices from "
       << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
                                              : config_.agent.devices_file)
       << (config_.observer.security_dir.empty()

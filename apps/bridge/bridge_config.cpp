@@ -213,11 +213,19 @@ void set_path_visits(BridgeConfig& c, std::string_view v, const std::string& ori
       parse_int<std::uint64_t>(v, 1000, std::uint64_t{1} << 40, origin, "PathMaxVisits"));
 }
 
-void set_shdr_adapter(BridgeConfig& c, std::string_view v, const std::string& origin) {
+bool parse_yes_no(std::string_view v, const std::string& origin, const char* key) {
   if (v != "yes" && v != "no" && v != "true" && v != "false") {
-    fail(origin, "ShdrAdapter must be yes or no, not '" + std::string(v) + "'");
+    fail(origin, std::string(key) + " must be yes or no, not '" + std::string(v) + "'");
   }
-  c.shdr_enabled = v == "yes" || v == "true";
+  return v == "yes" || v == "true";
+}
+
+void set_shdr_adapter(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.shdr_enabled = parse_yes_no(v, origin, "ShdrAdapter");
+}
+
+void set_inline_steps(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.observer.inline_steps = parse_yes_no(v, origin, "InlineSteps");
 }
 
 void set_shdr_port(BridgeConfig& c, std::string_view v, const std::string& origin) {
@@ -236,7 +244,7 @@ void set_shdr_ip(BridgeConfig& c, std::string_view v, const std::string& origin)
   c.shdr_enabled = true;
 }
 
-const std::array<Setting, 30> kSettings{{
+const std::array<Setting, 31> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -272,6 +280,11 @@ const std::array<Setting, 30> kSettings{{
      [](const BridgeConfig& c) { return std::string(qos::to_string(c.observer.transport)); }},
     {"Middleware", "--middleware", "DDS implementation: fastdds or cyclone", set_middleware,
      [](const BridgeConfig& c) { return std::string(dds::to_string(c.observer.middleware)); }},
+    {"InlineSteps", "--inline-steps",
+     "yes: a DDS value is handed to the agent on the middleware's receive thread (one thread "
+     "hand-off less per change)",
+     set_inline_steps,
+     [](const BridgeConfig& c) { return std::string(c.observer.inline_steps ? "yes" : "no"); }},
     {"TlsCertificateChain", "--tls-certificate",
      "HTTPS: PEM certificate chain (with TlsPrivateKey; default: plain HTTP)", set_tls_certificate},
     {"TlsPrivateKey", "--tls-private-key", "HTTPS: PEM private key of the certificate",

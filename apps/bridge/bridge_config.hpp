@@ -30,7 +30,7 @@ struct BridgeConfig {
   // MaxConnectionsPerClient, MaxPendingBytes, HeaderTimeoutMs,
   // IdleTimeoutMs, WriteTimeoutMs.
   ServerOptions server;
-  // DeviceFilter, Transport, SecurityDir, and in `timing` HeartbeatMs and
+  // DeviceFilter, Transport, Middleware, InlineSteps, SecurityDir, and in `timing` HeartbeatMs and
   // MissedHeartbeats: the DDS heartbeat of the observed devices and how many
   // may be missed; their product is the liveliness lease the observer asks
   // for (it must cover the longest lease of any device). domain_id is set

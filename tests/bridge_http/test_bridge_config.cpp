@@ -74,6 +74,16 @@ TEST(BridgeConfig, MiddlewareIsFastDdsOrCycloneWhereBuiltIn) {
             std::string::npos);
 }
 
+TEST(BridgeConfig, InlineStepsIsYesOrNoAndOffByDefault) {
+  EXPECT_FALSE(parse("").observer.inline_steps);
+  EXPECT_TRUE(parse("InlineSteps = yes").observer.inline_steps);
+  EXPECT_TRUE(parse("InlineSteps = true").observer.inline_steps);
+  EXPECT_FALSE(parse("InlineSteps = no").observer.inline_steps);
+  EXPECT_NE(
+      error_of("InlineSteps = sometimes").find("InlineSteps must be yes or no, not 'sometimes'"),
+      std::string::npos);
+}
+
 TEST(BridgeConfig, HelpShowsTheDefaultsOfTheOptionsItHolds) {
   const auto text = usage_text("mtc-bridge");
   const BridgeConfig defaults;
