@@ -4,6 +4,7 @@
 // thread, on that thread: one at a time all the same).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
@@ -92,7 +93,9 @@ class Session : public std::enable_shared_from_this<Session> {
   void on_wake();
   void pump();
   void arm_timer(std::chrono::steady_clock::time_point due);
+  using PartBuffers = std::array<asio::const_buffer, 3>;  // part head, body, tail
   void write_part();
+  std::size_t write_now(const PartBuffers& buffers);
   void write_stream_end();
   void on_part_written(beast::error_code ec, bool last);
 

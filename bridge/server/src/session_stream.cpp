@@ -4,6 +4,7 @@
 #include "session_stream.hpp"
 
 #include <boost/asio/post.hpp>
+#include <boost/beast/core/buffers_suffix.hpp>
 #include <utility>
 
 #include "session.hpp"
@@ -125,12 +126,38 @@ void Session::write_part() {
   write_part_head(head_, state.boundary, part.content_type, body_.size());
 
   state.writing = true;
+  const PartBuffers buffers{asio::buffer(head_), asio::buffer(body_),
+                            asio::buffer(kPartTail.data(), kPartTail.size())};
+  const std::size_t written = write_now(buffers);
+  if (written == asio::buffer_size(buffers)) {
+    // Posted, not called: a client that keeps up with a burst must not
+    // recurse through pump() once per part.
+    asio::post(stream_.tcp().get_executor(),
+               [self = shared_from_this()] { self->on_part_written({}, false); });
+    return;
+  }
+  beast::buffers_suffix<PartBuffers> rest(buffers);
+  rest.consume(written);
   stream_.tcp().expires_after(shared_->options.write_timeout);  // read side stays unbounded
-  const std::array<asio::const_buffer, 3> buffers{asio::buffer(head_), asio::buffer(body_),
-                                                  asio::buffer(kPartTail.data(), kPartTail.size())};
-  stream_.async_write(buffers, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+  stream_.async_write(rest, [self = shared_from_this()](beast::error_code ec, std::size_t) {
     self->on_part_written(ec, false);
   });
+}
+
+// Plain TCP: what the socket's buffer takes now, nearly always the whole
+// part. Such a part needs no write timer armed and cancelled and no
+// asynchronous operation: that machinery, per part and per client, was most
+// of the io thread's time with 1,000 streams (docs/benchmarks.md). What
+// is left goes asynchronously under the write timeout, as before. TLS
+// always goes asynchronously (its records are not ours to split).
+std::size_t Session::write_now(const PartBuffers& buffers) {
+  if (stream_.is_tls()) return 0;
+  auto& socket = stream_.tcp().socket();
+  beast::error_code ec;
+  if (!socket.non_blocking()) socket.non_blocking(true, ec);
+  if (ec) return 0;
+  const std::size_t n = socket.write_some(buffers, ec);
+  return ec ? 0 : n;  // the asynchronous write meets the error again and closes
 }
 
 void Session::write_stream_end() {
