@@ -1,27 +1,39 @@
-// DDS transition to streaming HTTP client: a device (mtc::dds::Equipment)
-// toggles a responder between READY and NOT_READY; the bridge pieces
-// (DomainObserver -> agent -> HttpServer, as mtc-bridge wires them) carry
-// each change to a /sample?interval=0 client. Measured from the device's
-// state-machine step (TransitionEvent::step_time_ns, just before the
-// DataWriter write) to the part's arrival at the client (CLOCK_REALTIME on
-// both ends, one host). Intra-process delivery is off, so samples travel
-// over the loopback transports as between processes. DDS domain 110.
+// DDS transition to streaming HTTP client: a device (mtc::dds::Equipment) in
+// a process of its own toggles a responder between READY and NOT_READY; the
+// bridge pieces (DomainObserver -> agent -> HttpServer, as mtc-bridge wires
+// them) in this process carry each change to a /sample?interval=0 client.
+// Measured from the device's state-machine step (TransitionEvent::
+// step_time_ns, just before the DataWriter write) to the part's arrival at
+// the client (CLOCK_REALTIME on both ends, one host). Two processes, as a
+// device and mtc-bridge are in a cell: in one process Cyclone DDS would
+// deliver locally, past its transports. DDS domain 110.
 //
 //   scripts/netns-run.sh build/benchmarks/mtc-bench-bridge-dds-stream [--samples N]
+//     [--middleware fastdds|cyclone] [--inline-steps]
 //   (--help lists the options with their defaults)
 //
 // Bar (docs/benchmarks.md): p50 < 200 us, p99 < 2 ms.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <array>
 #include <atomic>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
+#include <mutex>
+#include <optional>
 #include <random>
 #include <thread>
 
 #include "demo_cell.hpp"
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/peer_process.hpp"
 #include "mtc/bench/transport.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "mtc/dds/equipment.hpp"
-#include "mtc/qos/participant.hpp"
+#include "mtc/dds/middleware.hpp"
 #include "stream_client.hpp"
 
 namespace {
@@ -29,12 +41,12 @@ namespace {
 namespace bridge = mtc::bridge;
 namespace core = mtc::core;
 namespace dds = mtc::dds;
-namespace qos = mtc::qos;
 using mtc::bridge::bench::print_summary;
 using mtc::bridge::bench::StreamClient;
 using mtc::bridge::bench::summarize;
 
 constexpr int kDomain = 110;
+constexpr const char* kArgv0 = "mtc-bench-bridge-dds-stream";
 
 std::int64_t wall_ns(std::chrono::system_clock::time_point t) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
@@ -42,21 +54,71 @@ std::int64_t wall_ns(std::chrono::system_clock::time_point t) {
 
 constexpr const char* kAbout =
     "Latency from a DDS transition to a streaming HTTP client: a device\n"
-    "(mtc::dds::Equipment) toggles a responder between READY and NOT_READY, and the\n"
-    "bridge pieces wired as mtc-bridge wires them (DomainObserver -> agent -> HTTP\n"
-    "server) carry each change to a /sample?interval=0 client. Timed from the device's\n"
-    "state-machine step and from the command, to the part's arrival (wall clock, one\n"
-    "host); 20 warm-up toggles are not counted. DDS domain 110 over the loopback\n"
-    "transports, no intra-process delivery: runs inside the loopback-only namespace\n"
-    "(scripts/netns-run.sh). One JSON line on stdout:\n"
-    "  {\"benchmark\":\"bridge_http_dds_stream_latency\",\"lost\",\n"
-    "   \"from_transition_us\":{p50,p90,p99,max,mean},\n"
+    "(mtc::dds::Equipment) in a second process toggles a responder between READY and\n"
+    "NOT_READY, and the bridge pieces wired as mtc-bridge wires them (DomainObserver ->\n"
+    "agent -> HTTP server) carry each change to a /sample?interval=0 client. Timed from\n"
+    "the device's state-machine step and from its command, to the part's arrival (wall\n"
+    "clock, one host); 20 warm-up toggles are not counted. DDS domain 110 over the\n"
+    "loopback transports: runs inside the loopback-only namespace (scripts/netns-run.sh).\n"
+    "--middleware puts the device and the observer on one DDS implementation;\n"
+    "--inline-steps lets both step a received value on the middleware's thread\n"
+    "(EquipmentOptions/DomainObserverOptions::inline_steps, mtc-bridge's InlineSteps).\n"
+    "One JSON line on stdout:\n"
+    "  {\"benchmark\":\"bridge_http_dds_stream_latency\",\"middleware\",\"inline_steps\",\n"
+    "   \"processes\":2,\"lost\",\"from_transition_us\":{p50,p90,p99,max,mean},\n"
     "   \"from_command_us\":{...},\"legs_us\":{dds,observer_handoff,agent_to_client},\n"
     "   \"meets_bar\",...}\n"
     "(legs: the transition to the observer's listener, the listener to its dispatch\n"
     "thread calling the agent, that call to the client's arrival).\n"
     "(bar, from the transition: p50 < 200 us, p99 < 2 ms, none lost).\n"
     "benchmarks/bridge_http/run.sh collects it in <build>/benchmarks/bridge_http.json.";
+
+// What a run was asked to measure; the last two are the device process's.
+struct Setup {
+  int samples = 1000;
+  dds::Middleware middleware = dds::Middleware::FastDds;
+  bool inline_steps = false;
+  int command_fd = -1;  // the device reads its toggles here ('r', 'n')
+  bool device = false;
+};
+
+// The device process: toggles as told on `command_fd` and writes, for each
+// toggle, "<command ns> <step ns>\n" (wall clock) to stdout. Ends at EOF.
+int run_device(const Setup& setup) {
+  std::mutex mutex;
+  std::condition_variable stepped;
+  std::int64_t step_ns = 0;
+  auto options = mtc::bench::loopback<dds::EquipmentOptions>();
+  options.domain_id = kDomain;
+  options.device_uuid = "bench-robot";
+  options.middleware = setup.middleware;
+  options.inline_steps = setup.inline_steps;
+  dds::EquipmentCallbacks callbacks;
+  callbacks.on_transition = [&](const dds::TransitionEvent& e) {
+    if (e.publish_time_ns == 0) return;  // not written to DDS
+    std::lock_guard<std::mutex> lock(mutex);
+    step_ns = e.step_time_ns;
+    stepped.notify_all();
+  };
+  dds::Equipment robot(options, callbacks);
+  robot.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
+  auto& load = robot.add_responder("mh1", core::Service::MaterialLoad, dds::ResponderCallbacks{});
+  robot.start();
+  char command = 0;
+  while (::read(setup.command_fd, &command, 1) == 1) {
+    std::unique_lock<std::mutex> lock(mutex);
+    const std::int64_t before = step_ns;
+    lock.unlock();
+    const std::int64_t command_ns = wall_ns(std::chrono::system_clock::now());
+    load.set_ready(command == 'r').get();
+    lock.lock();
+    stepped.wait_for(lock, std::chrono::seconds(2), [&] { return step_ns != before; });
+    std::printf("%lld %lld\n", static_cast<long long>(command_ns),
+                static_cast<long long>(step_ns == before ? 0 : step_ns));
+    std::fflush(stdout);
+  }
+  return 0;
+}
 
 struct Latencies {
   std::vector<std::chrono::nanoseconds> from_step;
@@ -75,11 +137,66 @@ struct Handover {
   std::atomic<std::int64_t> dispatched{0};
 };
 
-// Toggles `load` `samples` times, after 20 warm-up toggles that are not
-// counted, and times the arrival of each change at `client` from the
-// device's state-machine step (`step_ns`) and from the command.
-Latencies measure(StreamClient& client, dds::Responder& load,
-                  const std::atomic<std::int64_t>& step_ns, const Handover& handover, int samples) {
+// The device process, from this side: its toggles go down one pipe, its
+// command and step times come back up another.
+class Device {
+ public:
+  explicit Device(const Setup& setup) {
+    int commands[2];
+    int reports[2];
+    // Close-on-exec but for the device's end of its toggles: the device
+    // must not hold this side's ends, or it would never see the EOF.
+    if (::pipe2(commands, O_CLOEXEC) != 0 || ::pipe2(reports, O_CLOEXEC) != 0 ||
+        ::fcntl(commands[0], F_SETFD, 0) != 0) {
+      throw std::runtime_error("pipe failed");
+    }
+    std::vector<std::string> args{"--device", "--command-fd", std::to_string(commands[0]),
+                                  "--middleware", std::string(dds::to_string(setup.middleware))};
+    if (setup.inline_steps) args.emplace_back("--inline-steps");
+    pid_ = mtc::bench::exec_self(kArgv0, args, reports[1]);
+    ::close(commands[0]);
+    ::close(reports[1]);
+    commands_ = commands[1];
+    reports_ = ::fdopen(reports[0], "r");
+    if (reports_ == nullptr) throw std::runtime_error("fdopen failed");
+  }
+  ~Device() {
+    ::close(commands_);  // EOF: the device ends
+    std::fclose(reports_);
+    mtc::bench::stop_child(pid_, std::chrono::seconds(5));
+  }
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  void toggle(bool ready) {
+    const char c = ready ? 'r' : 'n';
+    if (::write(commands_, &c, 1) != 1) throw std::runtime_error("the device process is gone");
+  }
+  // The command and step times (wall ns) of the last toggle; step 0: none.
+  std::pair<std::int64_t, std::int64_t> report() {
+    std::array<char, 64> line{};
+    if (std::fgets(line.data(), static_cast<int>(line.size()), reports_) == nullptr) {
+      throw std::runtime_error("the device process did not report its toggle");
+    }
+    char* rest = nullptr;
+    const long long command = std::strtoll(line.data(), &rest, 10);
+    char* end = nullptr;
+    const long long step = std::strtoll(rest, &end, 10);
+    if (end == rest || (*end != '\n' && *end != '\0')) {
+      throw std::runtime_error("the device process reported '" + std::string(line.data()) + "'");
+    }
+    return {command, step};
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int commands_ = -1;
+  std::FILE* reports_ = nullptr;
+};
+
+// Toggles the device `samples` times, after 20 warm-up toggles that are not
+// counted, and times the arrival of each change at `client`.
+Latencies measure(StreamClient& client, Device& device, const Handover& handover, int samples) {
   std::mt19937 random(11);
   std::uniform_int_distribution<int> gap_us(500, 1500);
   Latencies m;
@@ -87,18 +204,17 @@ Latencies measure(StreamClient& client, dds::Responder& load,
   for (int k = 0; k < samples + warmup; ++k) {
     const bool ready = k % 2 == 1;
     client.expect(ready ? ">READY<" : ">NOT_READY<");
-    const auto command = std::chrono::system_clock::now();
-    load.set_ready(ready).get();
+    device.toggle(ready);
     const auto arrival = client.wait(std::chrono::seconds(2));
-    if (!arrival) {
+    const auto [command, step] = device.report();
+    if (!arrival || step == 0) {
       ++m.lost;
       continue;
     }
     if (k >= warmup) {
-      const std::int64_t step = step_ns.load();
       const std::int64_t arrived = wall_ns(arrival->wall);
       m.from_step.emplace_back(arrived - step);
-      m.from_command.emplace_back(arrived - wall_ns(command));
+      m.from_command.emplace_back(arrived - command);
       m.dds.emplace_back(handover.received.load() - step);
       m.handoff.emplace_back(handover.dispatched.load() - handover.received.load());
       m.bridge.emplace_back(arrived - handover.dispatched.load());
@@ -109,11 +225,13 @@ Latencies measure(StreamClient& client, dds::Responder& load,
 }
 
 // The JSON line on stdout: both latencies and whether they meet the bar.
-void print_result(const Latencies& m) {
+void print_result(const Setup& setup, const Latencies& m) {
   const int lost = m.lost;
   const auto step = summarize(m.from_step);
   std::cout << "{\"benchmark\":\"bridge_http_dds_stream_latency\",\"transport\":\"loopback\","
-            << "\"lost\":" << lost << ",\"from_transition_us\":";
+            << "\"middleware\":\"" << dds::to_string(setup.middleware)
+            << "\",\"inline_steps\":" << (setup.inline_steps ? "true" : "false")
+            << ",\"processes\":2,\"lost\":" << lost << ",\"from_transition_us\":";
   print_summary(std::cout, step);
   std::cout << ",\"from_command_us\":";
   print_summary(std::cout, summarize(m.from_command));
@@ -129,18 +247,9 @@ void print_result(const Latencies& m) {
             << std::endl;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) try {
-  int samples = 1000;
-  mtc::bench::Cli cli("mtc-bench-bridge-dds-stream", kAbout);
-  cli.integer("--samples", samples, 1, 10000000, "READY/NOT_READY toggles timed");
-  if (const auto exit_code = cli.parse(argc, argv)) {
-    return *exit_code;
-  }
-  qos::set_intraprocess_delivery(false);
-
-  // The bridge, wired as mtc-bridge wires it.
+// The bridge side: observer, agent and server, the device process and the
+// streaming client; prints the JSON line.
+int run_bridge(const Setup& setup) {
   std::shared_ptr<bridge::MtconnectAgent> agent = bridge::make_agent(bridge::AgentOptions{});
   bridge::ServerOptions server_options;
   server_options.port = 0;
@@ -148,6 +257,8 @@ int main(int argc, char** argv) try {
   server.start();
   auto observer_options = mtc::bench::loopback<dds::DomainObserverOptions>();
   observer_options.domain_id = kDomain;
+  observer_options.middleware = setup.middleware;
+  observer_options.inline_steps = setup.inline_steps;
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_device = [&](const dds::ObservedDevice& d) { agent->add_device(d); };
   Handover handover;
@@ -161,31 +272,49 @@ int main(int argc, char** argv) try {
   };
   dds::DomainObserver observer(observer_options, callbacks);
 
-  // The device.
-  std::atomic<std::int64_t> step_ns{0};
-  auto options = mtc::bench::loopback<dds::EquipmentOptions>();
-  options.domain_id = kDomain;
-  options.device_uuid = "bench-robot";
-  dds::EquipmentCallbacks equipment_callbacks;
-  equipment_callbacks.on_transition = [&](const dds::TransitionEvent& e) {
-    if (e.publish_time_ns != 0) {
-      step_ns = e.step_time_ns;
-    }
-  };
-  dds::Equipment robot(options, equipment_callbacks);
-  robot.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
-  auto& load = robot.add_responder("mh1", core::Service::MaterialLoad, dds::ResponderCallbacks{});
-  robot.start();
-
+  Device device(setup);
   StreamClient client(server.port());
   client.expect(">READY<");  // the bridge has seen the device once this arrives
   if (!client.wait(std::chrono::seconds(20))) {
     throw std::runtime_error("device never reached the bridge");
   }
-
-  print_result(measure(client, load, step_ns, handover, samples));
+  print_result(setup, measure(client, device, handover, setup.samples));
   return 0;
+}
+
+// The options, or the exit code of --help or of a bad option.
+std::optional<int> parse(int argc, char** argv, Setup& setup) {
+  std::string middleware = "fastdds";
+  mtc::bench::Cli cli(kArgv0, kAbout);
+  cli.integer("--samples", setup.samples, 1, 10000000, "READY/NOT_READY toggles timed")
+      .choice("--middleware", middleware, {"fastdds", "cyclone"},
+              "DDS implementation of the device and the observer")
+      .flag("--inline-steps", setup.inline_steps,
+            "device and observer step a received value on the middleware's thread")
+      .internal_options_follow()
+      .flag("--device", setup.device, "run as the device process")
+      .integer("--command-fd", setup.command_fd, 0, 1 << 20, "the device's toggles");
+  if (const auto exit_code = cli.parse(argc, argv)) {
+    return exit_code;
+  }
+  const auto choice = dds::choose_middleware(middleware);
+  if (!choice.middleware) {
+    std::cerr << kArgv0 << ": " << choice.problem << "\n";
+    return 2;
+  }
+  setup.middleware = *choice.middleware;
+  return std::nullopt;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  Setup setup;
+  if (const auto exit_code = parse(argc, argv, setup)) {
+    return *exit_code;
+  }
+  return setup.device ? run_device(setup) : run_bridge(setup);
 } catch (const std::exception& error) {
-  std::cerr << "mtc-bench-bridge-dds-stream: " << error.what() << "\n";
+  std::cerr << kArgv0 << ": " << error.what() << "\n";
   return 1;
 }
