@@ -41,7 +41,8 @@ void BridgeApp::observe_domains() {
   for (const int domain : config_.domain_ids) {
     dds::DomainObserverOptions options = config_.observer;
     options.domain_id = domain;
-    // Callbacks run on the observer's dispatch thread; the agent's ingest
+    // Callbacks run on the observer's dispatch thread (values, with
+    // InlineSteps, on the middleware's receive thread); the agent's ingest
     // is thread-safe and takes its lock only for the append.
     MtconnectAgent* agent = agent_.get();
     dds::DomainObserverCallbacks callbacks;
@@ -76,7 +77,7 @@ void BridgeApp::run(std::ostream& log) {
   log << "mtc-bridge: serving MTConnect " << to_string(agent_->schema_version()) << " on "
       << (server_->is_https() ? "https://" : "http://") << (v6 ? "[" : "")
       << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port() << "/ (DDS domains "
-      << domains.str() << " over " << dds::to_string(config_.observer.middleware)
+      << domains.str() << " over " << dds::to_string(observers_.front()->middleware())
       << (config_.observer.inline_steps ? ", inline steps" : "") << "; devices from "
       << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
                                              : config_.agent.devices_file)

@@ -290,10 +290,6 @@ class EquipmentLink : public Link {
     eo.middleware = middleware_of(id, options);
     eo.security_dir = security_dir_of(id, options);
     equipment_ = std::make_unique<dds::Equipment>(eo, callbacks());
-    // Which middleware this station's equipment runs on, as it was built
-    // (cell.mixed_middleware_bounded_run reads it).
-    print_line(to_string(id_),
-               "DDS middleware " + std::string(dds::to_string(equipment_->options().middleware)));
     const Layout l = layout_of(id);
     for (const auto& i : l.interfaces) {
       equipment_->add_interface(i);
@@ -328,6 +324,10 @@ class EquipmentLink : public Link {
       responses_.emplace(s, std::make_unique<DdsResponsePort>(r, shared_, s));
     }
     equipment_->start();
+    // Which middleware this station's equipment runs on, as its participant
+    // says once started (cell.mixed_middleware_bounded_run reads it).
+    print_line(to_string(id_),
+               "DDS middleware " + std::string(dds::to_string(equipment_->middleware())));
   }
 
   RequestPort& requester(Service s) override { return *requests_.at(s); }

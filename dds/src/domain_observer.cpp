@@ -493,6 +493,10 @@ DomainObserver::~DomainObserver() {
   impl_->executor.stop();
 }
 
+Middleware DomainObserver::middleware() const noexcept {
+  return impl_->participant->middleware();
+}
+
 std::vector<ObservedDevice> DomainObserver::devices() const {
   std::lock_guard<std::mutex> lock(impl_->devices_mutex);
   std::vector<ObservedDevice> out;

@@ -372,6 +372,9 @@ std::optional<CounterpartSpec> Equipment::counterpart(const std::string& interfa
 const EquipmentOptions& Equipment::options() const noexcept {
   return impl_->options;
 }
+Middleware Equipment::middleware() const noexcept {
+  return impl_->participant ? impl_->participant->middleware() : impl_->options.middleware;
+}
 bool Equipment::started() const noexcept {
   return impl_->started;
 }

@@ -315,6 +315,7 @@ class CycloneParticipant final : public Participant, public CycloneTopics {
     std::copy_n(guid.v, out.size(), out.begin());
     return out;
   }
+  Middleware middleware() const noexcept override { return Middleware::Cyclone; }
   std::unique_ptr<Publisher> publisher(const std::vector<std::string>& partitions) override {
     return std::make_unique<CyclonePublisher>(participant_.get(), *this, partitions);
   }

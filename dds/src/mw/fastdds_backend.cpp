@@ -165,6 +165,7 @@ class FastParticipant final : public Participant {
     std::copy(std::begin(prefix), std::end(prefix), out.begin());
     return out;
   }
+  Middleware middleware() const noexcept override { return Middleware::FastDds; }
   std::unique_ptr<Publisher> publisher(const std::vector<std::string>& partitions) override {
     return std::make_unique<FastPublisher>(participant_, topics_, partitions);
   }

@@ -101,6 +101,9 @@ class Participant {
   // The RTPS GUID prefix: what a writer handle's participant_of() returns
   // for this participant's writers, and what a paired value names.
   virtual ParticipantKey key() const = 0;
+  // The implementation this participant really runs on: what the tools
+  // print, so that a test can tell a choice that was ignored.
+  virtual Middleware middleware() const noexcept = 0;
   virtual std::unique_ptr<Publisher> publisher(const std::vector<std::string>& partitions) = 0;
   virtual std::unique_ptr<Tap> tap(const TapConfig& config, TapSink sink) = 0;
 };

@@ -123,6 +123,8 @@ class DomainObserver {
 
   // Devices announced so far (a copy, safe from any thread).
   std::vector<ObservedDevice> devices() const;
+  // The DDS implementation the observer's participant runs on.
+  Middleware middleware() const noexcept;
 
  private:
   struct Impl;

@@ -349,6 +349,9 @@ class Equipment {
   // The paired counterpart of an interface, once known.
   std::optional<CounterpartSpec> counterpart(const std::string& interface_id) const;
   const EquipmentOptions& options() const noexcept;
+  // The DDS implementation its participant runs on once started (before:
+  // the one its options ask for).
+  Middleware middleware() const noexcept;
   bool started() const noexcept;
   Traffic traffic() const;
 
