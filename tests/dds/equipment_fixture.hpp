@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mtc/dds/equipment.hpp"
+#include "transport.hpp"
 
 namespace mtc::dds::testing {
 
@@ -137,12 +138,18 @@ class Recorder {
   std::vector<std::string> diagnostics_;
 };
 
+// On the test middleware (MTC_TEST_MIDDLEWARE), like loopback<T>(): the
+// cyclone phase of .ci/run must run these cases on Cyclone DDS, not only
+// their observers. Fault injection (LoopbackTest) is Fast DDS's own
+// transport, so those cases stay on Fast DDS; a case that means one
+// middleware sets it after this.
 inline EquipmentOptions options(int domain, const std::string& uuid,
                                 qos::Transport transport = qos::Transport::Loopback) {
-  EquipmentOptions o;
+  auto o = mtc::test::loopback<EquipmentOptions>();
   o.domain_id = domain;
   o.device_uuid = uuid;
   o.transport = transport;
+  if (transport == qos::Transport::LoopbackTest) o.middleware = Middleware::FastDds;
   return o;
 }
 
