@@ -38,6 +38,24 @@ std::shared_ptr<frtps::TransportDescriptorInterface> loopback_udp() {
   return udp;
 }
 
+// The network: what Fast DDS's builtin transports are (shared memory and
+// UDPv4 on every interface, default discovery) with one change: a UDP send
+// never blocks. A blocking send waits for room in the socket's buffer, and
+// with a cable pulled the datagrams already queued for the dead link hold
+// that room: the robot's state machine thread stalled 2.0-2.1 s in the
+// kernel (sock_alloc_send_pskb) on the FAIL it was publishing, so it told
+// the loss a lease late (multihost.cable_pull, step 7, 3,097 ms). A
+// datagram the buffer cannot take now is dropped instead; the reliable
+// protocol repairs it, as it would a datagram lost on the wire.
+void network_transports(fdds::DomainParticipantQos& q) {
+  auto& transport = q.transport();
+  transport.use_builtin_transports = false;
+  transport.user_transports.push_back(std::make_shared<frtps::SharedMemTransportDescriptor>());
+  auto udp = std::make_shared<frtps::UDPv4TransportDescriptor>();
+  udp->non_blocking_send = true;
+  transport.user_transports.push_back(udp);
+}
+
 // Discovery without multicast: listening on 127.0.0.1 at the participant's
 // well-known unicast port (port 0 lets Fast DDS compute it from domain and
 // participant id) and announcing to the unicast discovery ports of the
@@ -153,7 +171,8 @@ fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
   auto& transport = q.transport();
   switch (config.transport) {
     case Transport::Network:
-      return q;
+      network_transports(q);
+      break;
     case Transport::Loopback:
       transport.use_builtin_transports = false;
       transport.user_transports.push_back(std::make_shared<frtps::SharedMemTransportDescriptor>());

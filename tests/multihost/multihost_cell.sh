@@ -198,6 +198,12 @@ for step in 1 2 3 4 5 6 7 8; do
   machine_back_ms=$(ms_between "$back" "$(ready_after_fail "$mlog")")
   [ "$robot_ms" -le "$bound_ms" ] || fail "step $step: robot FAIL after $robot_ms ms (> $bound_ms)"
   [ "$machine_ms" -le "$bound_ms" ] || fail "step $step: machine FAIL after $machine_ms ms (> $bound_ms)"
+  # Neither side's executor may stall on the dead link: a blocking UDP send
+  # held the robot's for 2 s and its FAIL came a lease late (the Network
+  # transport's sends never block since; qos/src/participant.cpp).
+  if stalled=$(grep -h "withheld" "$rlog" "$mlog"); then
+    fail "step $step: an executor stalled during the pull: $stalled"
+  fi
   survived=$((survived + 1))
   figures+="$step:$robot_ms/$machine_ms "
   back_figures+="$step:$robot_back_ms/$machine_back_ms "

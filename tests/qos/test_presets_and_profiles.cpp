@@ -233,17 +233,29 @@ TEST_F(XmlProfiles, ParticipantProfilesAreLoopbackOnlyAndMatchCode) {
   expect_loopback_participant(std::string(mtc::qos::kLoopbackUdpParticipantProfile), false);
 }
 
-// The default transport is the network (issue 10): Fast DDS's builtin
-// transports (UDPv4 on every interface + SHM) and its default discovery,
-// exactly as PARTICIPANT_QOS_DEFAULT has them.
-TEST(Profiles, TheDefaultTransportIsFastDdsBuiltinNetwork) {
+// The default transport is the network (issue 10): what Fast DDS's builtin
+// transports are (SHM + UDPv4 on every interface) and its default discovery,
+// exactly as PARTICIPANT_QOS_DEFAULT has them, except that a UDP send never
+// blocks (a pulled cable stalled a blocking send for 2 s).
+TEST(Profiles, TheDefaultTransportIsTheNetworkWithSendsThatNeverBlock) {
   // transport-guard: the default itself is under test
   const mtc::qos::ParticipantConfig config;
   EXPECT_EQ(config.transport, mtc::qos::Transport::Network);
   const auto code = mtc::qos::participant_qos(config);
   const auto& fast_dds = eprosima::fastdds::dds::PARTICIPANT_QOS_DEFAULT;
-  EXPECT_TRUE(code.transport().use_builtin_transports);
-  EXPECT_TRUE(code.transport().user_transports.empty());
+  EXPECT_FALSE(code.transport().use_builtin_transports);
+  const auto& user = code.transport().user_transports;
+  ASSERT_EQ(user.size(), 2U);
+  EXPECT_NE(
+      std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(user[0]),
+      nullptr);
+  const auto udp =
+      std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(user[1]);
+  ASSERT_NE(udp, nullptr);
+  EXPECT_TRUE(udp->non_blocking_send);
+  EXPECT_TRUE(udp->interfaceWhiteList.empty()) << "every interface, as the builtin one";
+  EXPECT_EQ(udp->sendBufferSize,
+            eprosima::fastdds::rtps::UDPv4TransportDescriptor().sendBufferSize);
   const auto& builtin = code.wire_protocol().builtin;
   EXPECT_EQ(builtin.initialPeersList, fast_dds.wire_protocol().builtin.initialPeersList);
   EXPECT_EQ(builtin.metatrafficUnicastLocatorList,

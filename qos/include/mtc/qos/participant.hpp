@@ -4,8 +4,8 @@
 // inside qos/ and dds/.
 //
 // Network (the default) is Fast DDS's builtin transports with its default
-// discovery (SPDP multicast, every interface): what a cell that spans
-// machines needs. Tests, benchmarks and the main job choose a loopback
+// discovery (SPDP multicast, every interface), UDP sends made non-blocking:
+// what a cell that spans machines needs. Tests, benchmarks and the main job choose a loopback
 // transport explicitly.
 //
 // The loopback transports Loopback and LoopbackUdp confine DDS
@@ -40,7 +40,8 @@ enum class Transport : std::uint8_t {
   Loopback,      // UDPv4 on 127.0.0.1 + shared memory (same host, fastest)
   LoopbackUdp,   // UDPv4 on 127.0.0.1 only
   LoopbackTest,  // Fast DDS test_UDPv4 transport on 127.0.0.1: fault injection
-  Network,       // Fast DDS builtin transports (UDPv4 on every interface + SHM),
+  Network,       // Fast DDS builtin transports (UDPv4 on every interface, sends
+                 // that never block, + SHM),
                  // default discovery: the default, for a real cell network;
                  // tests use it only inside their own network namespaces
 };
