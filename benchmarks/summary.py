@@ -63,7 +63,28 @@ def machine():
                     break
     except OSError:
         pass
-    return {"nproc": os.cpu_count(), "cpu_model": model, "kernel": platform.release()}
+    return {"nproc": os.cpu_count(), "cpu_model": model, "kernel": platform.release(),
+            "idle": idle_policy()}
+
+
+def read_text(path):
+    try:
+        with open(path) as f:
+            return f.read().strip()
+    except OSError:
+        return None
+
+
+def idle_policy():
+    """How an idle CPU waits: on a VM guest, a halted vCPU is woken through
+    the hypervisor, which sets the floor of every cross-thread hand-off
+    (docs/benchmarks.md, "The machine's idle halt"); the figures are only
+    comparable with this beside them."""
+    poll = read_text("/sys/module/haltpoll/parameters/guest_halt_poll_ns")
+    return {
+        "cpuidle_driver": read_text("/sys/devices/system/cpu/cpuidle/current_driver"),
+        "guest_halt_poll_ns": int(poll) if poll is not None and poll.isdigit() else None,
+    }
 
 
 def commit(root):
