@@ -23,8 +23,6 @@
 //                               The test sends it once it sees this peer:
 //                               a process frozen before the other side has
 //                               discovered it would never be seen at all.
-// MTC_TEST_MIDDLEWARE (tests/support/transport.hpp) chooses its middleware,
-// as for the test that starts it: on Cyclone in .ci/run's cyclone phase.
 // It prints one line per event, flushed: "started", "link <state> <cause>",
 // "transition <prev> <cur> <notice> <reason>", "value <state>",
 // "outcome <n> <outcome> <reason>", "abort <reason>", and
@@ -46,7 +44,6 @@
 
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
-#include "transport.hpp"
 
 namespace {
 
@@ -163,7 +160,6 @@ class Peer {
     e.domain_id = o.domain;
     e.device_uuid = o.uuid;
     e.transport = o.transport;
-    if (mtc::test::test_middleware_is_cyclone()) e.middleware = dds::Middleware::Cyclone;
     e.timing.heartbeat = std::chrono::milliseconds(o.heartbeat_ms);
     e.timing.missed_heartbeats = 5;
     return e;
