@@ -47,13 +47,10 @@ std::shared_ptr<frtps::TransportDescriptorInterface> loopback_udp() {
 // the loss a lease late (multihost.cable_pull, step 7, 3,097 ms). A
 // datagram the buffer cannot take now is dropped instead; the reliable
 // protocol repairs it, as it would a datagram lost on the wire.
-void network_transports(fdds::DomainParticipantQos& q) {
-  auto& transport = q.transport();
-  transport.use_builtin_transports = false;
-  transport.user_transports.push_back(std::make_shared<frtps::SharedMemTransportDescriptor>());
+std::shared_ptr<frtps::TransportDescriptorInterface> network_udp() {
   auto udp = std::make_shared<frtps::UDPv4TransportDescriptor>();
   udp->non_blocking_send = true;
-  transport.user_transports.push_back(udp);
+  return udp;
 }
 
 // Discovery without multicast: listening on 127.0.0.1 at the participant's
@@ -171,7 +168,9 @@ fdds::DomainParticipantQos participant_qos(const ParticipantConfig& config) {
   auto& transport = q.transport();
   switch (config.transport) {
     case Transport::Network:
-      network_transports(q);
+      transport.use_builtin_transports = false;
+      transport.user_transports.push_back(std::make_shared<frtps::SharedMemTransportDescriptor>());
+      transport.user_transports.push_back(network_udp());
       break;
     case Transport::Loopback:
       transport.use_builtin_transports = false;

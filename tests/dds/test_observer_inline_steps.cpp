@@ -57,7 +57,7 @@ struct ObservedThreads {
     std::lock_guard<std::mutex> lock(mutex);
     return states.size();
   }
-  bool announced() {
+  bool dispatch_known() {
     std::lock_guard<std::mutex> lock(mutex);
     return dispatch != std::thread::id();
   }
@@ -94,7 +94,8 @@ void toggle_and_watch(ObservedThreads& seen, Recorder& rec, bool inline_steps, i
   Equipment beacon(options(domain, "beacon-oi"));
   beacon.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
   beacon.start();
-  ASSERT_TRUE(rec.wait([&] { return seen.announced(); })) << "the beacon's heartbeats never came";
+  ASSERT_TRUE(rec.wait([&] { return seen.dispatch_known(); }))
+      << "the beacon's heartbeats never came";
   Equipment robot(options(domain, "robot-oi"));
   robot.add_interface({"mh1", core::InterfaceType::MaterialHandler, "", {}});
   auto& load = robot.add_responder("mh1", core::Service::MaterialLoad, ResponderCallbacks{});
