@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <mutex>
 #include <thread>
@@ -78,13 +79,21 @@ struct ObservedThreads {
   void leave() { inside.fetch_sub(1); }
 };
 
+// Ample for a pass of microseconds, even on a loaded 2-core runner.
+constexpr auto kObserverGoesIdle = std::chrono::milliseconds(5);
+
 // Finds the observer's dispatch thread first. Heartbeats are posted, never
 // stepped inline, but one posted while a value is being stepped inline is
 // drained on that middleware thread; the beacon writes its values once at
 // start and then only heartbeats (10 per second), so the thread that runs
 // two of them is the dispatch thread.
-// Then toggles a responder `toggles` times (READY first); each toggle waits
-// until the observer has its value, so that it is idle when the next comes.
+// Then toggles a responder `toggles` times (READY first). Each toggle waits
+// until the observer has its value and then pauses: the callback wakes this
+// thread before the observer's pass ends, and a toggle written meanwhile is
+// queued, so without the pause one queued value can make the next one wait
+// too, toggle after toggle (seen in CI on 2 cores). No event says "the
+// observer is idle" (nothing outside needs one), and an idle observer is the
+// condition under test, not the synchronisation of its results.
 void toggle_and_watch(ObservedThreads& seen, Recorder& rec, bool inline_steps, int domain,
                       int toggles) {
   auto oo = mtc::test::loopback<DomainObserverOptions>();
@@ -105,6 +114,7 @@ void toggle_and_watch(ObservedThreads& seen, Recorder& rec, bool inline_steps, i
     const std::size_t before = seen.count();
     load.set_ready(k % 2 == 1).get();
     ASSERT_TRUE(rec.wait([&] { return seen.count() > before; })) << "toggle " << k;
+    std::this_thread::sleep_for(kObserverGoesIdle);
   }
 }
 
