@@ -327,6 +327,15 @@ struct DomainObserver::Impl {
     return {lease, group.period_or(options.timing.heartbeat)};
   }
 
+  // The silence rule with the device's own lease; false for a group unknown.
+  bool silent(const detail::PeerGroupKey& key) const {
+    const auto* group = peer_groups.find(key);
+    if (group == nullptr) return false;
+    const auto [lease, period] = timing_of(*group);
+    return detail::silent_for_a_lease(group->last_heartbeat_ns, topics::realtime_ns(), lease,
+                                      period);
+  }
+
   // A heartbeat writer's lease expired (checked against the silence rule
   // with the device's own lease) or the writer went away (not checked).
   void heartbeat_writer_lost(const detail::WriterLivelinessEvent& e,
@@ -335,13 +344,7 @@ struct DomainObserver::Impl {
     // forget_writer() below erases.
     const auto copy = key;  // NOLINT(performance-unnecessary-copy-initialization)
     if (!e.unmatched) {
-      const auto* group = peer_groups.find(copy);
-      if (group == nullptr) return;
-      const auto [lease, period] = timing_of(*group);
-      if (!detail::silent_for_a_lease(group->last_heartbeat_ns, topics::realtime_ns(), lease,
-                                      period)) {
-        return;
-      }
+      if (!silent(copy)) return;
       silent_groups.insert(copy);
     } else {
       peer_groups.forget_writer(e.writer);
@@ -398,7 +401,15 @@ struct DomainObserver::Impl {
     if (e.writer != Handle{} && detail::participant_of(e.writer) != owner.participant) return;
     if (e.topic == TopicKind::Heartbeat) {
       const auto now = incarnation.find(owner.device);
-      if (now != incarnation.end()) group_lost({owner.device, owner.group, now->second});
+      if (now == incarnation.end()) return;
+      const detail::PeerGroupKey key{owner.device, owner.group, now->second};
+      // Without writers is a cue, as a liveliness expiry (the Equipment's
+      // heartbeat_cue_only); a writer that left is reported unmatched.
+      if (!e.disposed) {
+        if (!silent(key)) return;
+        silent_groups.insert(key);
+      }
+      group_lost(key);
     } else if (e.topic == TopicKind::DeviceDescription) {
       device_lost(owner.device);
       if (auto held = owners.release_device(owner.device)) handle(*held);

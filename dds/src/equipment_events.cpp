@@ -265,6 +265,16 @@ bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
   return true;
 }
 
+// A heartbeat instance left without writers is a cue like its writer's
+// liveliness expiry, and checked the same way: Cyclone ends an expired
+// writer's instances so, and after this process was stopped its lease check
+// can run before the heartbeats queued meanwhile are read (seen with
+// ProcessFaults on Cyclone: a second loss right after the recovery). A writer
+// that really left is reported unmatched, and that is not checked.
+bool EquipmentImpl::heartbeat_cue_only(const InterfaceSlot& itf, const std::string& device) {
+  return recently_heard(itf.group, itf.last_heard_ns, "heartbeat without writers of " + device);
+}
+
 // A heartbeat DEADLINE miss is a cue to check, not a verdict on the instance
 // it names (see detail::silent_for_a_lease): each Up interface of the group
 // is lost when nothing of its counterpart (heartbeat or value) was heard for
@@ -323,7 +333,8 @@ void EquipmentImpl::check_silence() {
 
 // Disposal, a leaving heartbeat or loss of every writer of an instance: the
 // counterpart said so itself, so no silence check applies (DEADLINE misses
-// go through on_deadline_missed instead). A heartbeat instance stands for
+// go through on_deadline_missed instead), except to a heartbeat instance
+// without writers (heartbeat_cue_only). A heartbeat instance stands for
 // every interface its group vouches for. The leave heard twice (heartbeat,
 // then disposals) is told once: link_lost and unpairing act on an Up or
 // paired interface only.
@@ -350,9 +361,9 @@ void EquipmentImpl::on_gone(std::size_t group, TopicKind topic, const detail::Ha
     if (topic == TopicKind::DeviceDescription) {
       link_lost(*itf, std::string("device announcement ") + cause);
     } else if (topic == TopicKind::Heartbeat) {
-      if (itf->cp_group && itf->cp_group->group == owner.group) {
-        link_lost(*itf, std::string("heartbeat ") + cause);
-      }
+      if (!itf->cp_group || itf->cp_group->group != owner.group) continue;
+      if (how == Gone::WithoutWriters && heartbeat_cue_only(*itf, owner.device)) continue;
+      link_lost(*itf, std::string("heartbeat ") + cause);
     } else if (owner.interface_id == itf->cp_interface) {
       link_lost(*itf, owner.item + ": " + cause);
     }

@@ -309,6 +309,7 @@ struct EquipmentImpl {
   // would otherwise be refused for good.
   using SilentOwners = std::vector<std::pair<std::size_t, detail::PeerGroupKey>>;
   bool recently_heard(std::size_t group, std::int64_t last_ns, const std::string& what);
+  bool heartbeat_cue_only(const InterfaceSlot& itf, const std::string& device);
   void link_lost(InterfaceSlot& itf, const std::string& cause);
   void link_up(InterfaceSlot& itf, const char* cause);
   void set_link(InterfaceSlot& itf, LinkState next, const std::string& cause);
