@@ -23,6 +23,10 @@
 //                               The test sends it once it sees this peer:
 //                               a process frozen before the other side has
 //                               discovered it would never be seen at all.
+//   --middleware fastdds|cyclone  which DDS; without it MTC_TEST_MIDDLEWARE
+//                               (tests/support/transport.hpp) chooses, as for
+//                               the test that starts it: Cyclone in .ci/run's
+//                               cyclone phase
 // It prints one line per event, flushed: "started", "link <state> <cause>",
 // "transition <prev> <cur> <notice> <reason>", "value <state>",
 // "outcome <n> <outcome> <reason>", "abort <reason>", and
@@ -39,11 +43,14 @@
 #include <cstdlib>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/equipment.hpp"
+#include "mtc/dds/middleware.hpp"
+#include "transport.hpp"
 
 namespace {
 
@@ -61,12 +68,14 @@ struct PeerOptions {
   int requests = 1;
   int hold_at_step = 0;
   bool start_on_signal = false;
+  std::optional<dds::Middleware> middleware;  // none: the test middleware
 };
 
 constexpr const char* kUsage =
     "usage: mtc-test-loss-peer DOMAIN [--role requester|responder] [--uuid U]\n"
     "         [--counterpart U] [--transport loopback|loopback-udp] [--heartbeat-ms N]\n"
-    "         [--requests N] [--hold-at-step K] [--start-on-sigusr1]\n";
+    "         [--requests N] [--hold-at-step K] [--start-on-sigusr1]\n"
+    "         [--middleware fastdds|cyclone]\n";
 
 bool parse_int(const std::string& text, int low, int high, int& out) {
   char* end = nullptr;
@@ -93,6 +102,11 @@ bool parse_option(const std::string& name, const std::string& value, PeerOptions
     }
     o.transport = *t;
     return true;
+  }
+  if (name == "--middleware") {
+    const auto m = dds::parse_middleware(value);
+    if (m) o.middleware = *m;
+    return m.has_value();
   }
   if (name == "--heartbeat-ms") return parse_int(value, 10, 10000, o.heartbeat_ms);
   if (name == "--requests") return parse_int(value, 0, 1000, o.requests);
@@ -160,6 +174,9 @@ class Peer {
     e.domain_id = o.domain;
     e.device_uuid = o.uuid;
     e.transport = o.transport;
+    e.middleware =
+        o.middleware.value_or(mtc::test::test_middleware_is_cyclone() ? dds::Middleware::Cyclone
+                                                                      : dds::Middleware::FastDds);
     e.timing.heartbeat = std::chrono::milliseconds(o.heartbeat_ms);
     e.timing.missed_heartbeats = 5;
     return e;

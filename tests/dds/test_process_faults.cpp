@@ -460,11 +460,12 @@ void run_matrix(int domain, Party faulted, Fault fault) {
 // live process's alone. (scripts/netns-run.sh makes no mount namespace:
 // /dev/shm is the host's, shared with whatever else runs, so the check is
 // about the killed process's own files, found by the flock()s it held.)
+// Fast DDS's files, so its peers are on Fast DDS whatever the test middleware.
 void check_shared_memory_of_the_killed(int domain) {
   const auto peer = [domain](const std::string& uuid) {
     return std::vector<std::string>{
-        MTC_LOSS_PEER_PATH, std::to_string(domain), "--uuid",  uuid, "--counterpart",
-        "nobody",           "--transport",          "loopback"};
+        MTC_LOSS_PEER_PATH, std::to_string(domain), "--uuid",   uuid,           "--counterpart",
+        "nobody",           "--transport",          "loopback", "--middleware", "fastdds"};
   };
   ChildProcess bystander(peer("shm-bystander"));
   ASSERT_TRUE(bystander.wait_for_line({"started"}, kTimeout)) << bystander.transcript();
