@@ -51,6 +51,17 @@ fail() {
   for f in "$work"/*.log; do [ -f "$f" ] && { echo "---- $(basename "$f") ----"; tail -n 40 "$f"; } >&2; done
   exit 1
 }
+# Every thread's stack of the given live processes, when gdb is there: a
+# party that never reports FAIL is either stuck (the stack says where) or
+# never had a state to lose (its SEEN lines say so).
+stacks() {
+  command -v gdb >/dev/null || return 0
+  for p in "$@"; do
+    kill -0 "$p" 2>/dev/null || continue
+    echo "---- stacks of pid $p ----"
+    timeout 60 gdb -p "$p" -batch -nx -ex 'thread apply all bt 12' 2>&1 | grep -E '^(Thread|#)'
+  done >&2
+}
 on() { local node=$1; shift; "$topo" exec "$work/topo" "$node" "$@"; }
 # Started directly (no function, no subshell), so $! is the program itself:
 # topology.sh and nsenter both exec.
@@ -155,6 +166,13 @@ for step in 1 2 3 4 5 6 7 8; do
   bg_on "$mlog" machine "$party" requester "$domain" machine-1 robot-1 "$machine_hold" "$mfifo"
   machine=$last_pid
   wait_for_line "$mlog" "^WAIT BEGIN " 40 || fail "step $step: requester never paired"
+  # Paired means each side holds the other's READY. A side that has heard
+  # only the counterpart's INTERFACE_STATE (link up) has no service state to
+  # lose yet, and stays READY through the pull: under TSan on a loaded
+  # machine the robot, still making its readers, had not received the
+  # request READY when the cable went (2 of 5 runs failed so before).
+  wait_for_line "$rlog" "^SEEN READY [0-9]+$" 40 || fail "step $step: robot never saw the request READY"
+  wait_for_line "$mlog" "^SEEN READY [0-9]+$" 40 || fail "step $step: machine never saw the response READY"
   deadline=$((SECONDS + 20))
   until current="$(get /current)" && grep -q 'uuid="robot-1"' <<<"$current" &&
     grep -q 'uuid="machine-1"' <<<"$current" && [ "$(grep -o '<MaterialLoad[^>]*>READY<' <<<"$current" | wc -l)" -ge 2 ]; do
@@ -167,8 +185,8 @@ for step in 1 2 3 4 5 6 7 8; do
   "$topo" link "$work/topo" robot down || fail "link down"
   tell "$fifo" go || fail "step $step: holder did not read GO"
   faults=$((faults + 1))
-  wait_for_line "$rlog" "^STATE FAIL " 15 || fail "step $step: robot never FAIL"
-  wait_for_line "$mlog" "^STATE FAIL " 15 || fail "step $step: machine never FAIL"
+  wait_for_line "$rlog" "^STATE FAIL " 15 || { stacks "$robot"; fail "step $step: robot never FAIL"; }
+  wait_for_line "$mlog" "^STATE FAIL " 15 || { stacks "$machine"; fail "step $step: machine never FAIL"; }
   # The hold must have ended after the cut, or the step crossed before it.
   [ "$(line_time "$work/pull$step-$holder.log" "^GO $step ")" -ge "$cut" ] ||
     fail "step $step: the $holder went on before the cable was pulled"

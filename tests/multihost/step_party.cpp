@@ -12,8 +12,9 @@
 //   8 requester, response READY received       (handshake over, idle cut)
 // At its hold point it prints "WAIT HOLD <n>" and waits for the line "go" on
 // GO_FIFO before going on; the requester also waits for "begin" ("WAIT
-// BEGIN") once paired, before its first handshake. Every line it prints
-// carries CLOCK_REALTIME ns.
+// BEGIN") once paired, before its first handshake. It prints "SEEN <state>"
+// for every counterpart REQUEST/RESPONSE value. Every line it prints carries
+// CLOCK_REALTIME ns.
 // The requester runs one handshake, waits for FAIL and then READY with the
 // link up, runs a second handshake and exits 0 if that one completes. The
 // responder serves until SIGINT/SIGTERM.
@@ -142,7 +143,13 @@ dds::EquipmentCallbacks callbacks(Watch& watch, Hold& hold, bool requester) {
   cb.on_counterpart_value = [&hold, requester,
                              busy = false](const mtc::core::ObservedValue& v) mutable {
     const auto s = v.state.interaction();
-    if (!s || v.redelivered) return;
+    if (!s) return;
+    // The test waits for the counterpart's READY on both sides before it
+    // lets the handshake begin: a link that is up (any value heard) is not
+    // yet a counterpart state the machines can lose.
+    say(std::string("SEEN ") + std::string(mtc::core::to_string(*s)) +
+        (v.redelivered ? " redelivered" : ""));
+    if (v.redelivered) return;
     if (!requester && *s == InteractionState::Active) {
       busy = true;
       hold.at(2);
