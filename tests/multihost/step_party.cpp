@@ -144,9 +144,7 @@ dds::EquipmentCallbacks callbacks(Watch& watch, Hold& hold, bool requester) {
                              busy = false](const mtc::core::ObservedValue& v) mutable {
     const auto s = v.state.interaction();
     if (!s) return;
-    // The test waits for the counterpart's READY on both sides before it
-    // lets the handshake begin: a link that is up (any value heard) is not
-    // yet a counterpart state the machines can lose.
+    // multihost_cell.sh waits for SEEN READY on both sides (why: there).
     say(std::string("SEEN ") + std::string(mtc::core::to_string(*s)) +
         (v.redelivered ? " redelivered" : ""));
     if (v.redelivered) return;
