@@ -1,5 +1,7 @@
 #include "executor.hpp"
 
+#include <pthread.h>
+
 #include <exception>
 #include <iostream>
 
@@ -28,7 +30,11 @@ void Executor::start(NextWake next_wake, OnWake on_wake) {
     std::lock_guard<std::mutex> lock(mutex_);
     started_ = true;
   }
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    // Named, so that top -H, perf and gdb tell it from the middleware's.
+    pthread_setname_np(pthread_self(), "mtc-executor");
+    run();
+  });
 }
 
 void Executor::post(Task task) {

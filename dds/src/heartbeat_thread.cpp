@@ -33,7 +33,10 @@ HeartbeatThread::HeartbeatThread(std::vector<Group> groups, const Executor& exec
       longest_gap_(groups_.size()),
       executor_(executor),
       report_(std::move(report)) {
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    pthread_setname_np(pthread_self(), "mtc-heartbeat");  // as the executor's
+    run();
+  });
 }
 
 HeartbeatThread::~HeartbeatThread() {
