@@ -38,14 +38,21 @@ void Executor::start(NextWake next_wake, OnWake on_wake) {
 }
 
 void Executor::post(Task task) {
+  bool notify = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (stopping_) {
       return;
     }
     enqueue_locked(std::move(task));
+    notify = !busy_;
   }
-  cv_.notify_one();
+  // While the state is owned, the owner runs what was queued before it lets
+  // go (the executor thread in its loop, an inline step in
+  // drain_while_owner) and release() hands on the rest: waking the executor
+  // thread now would be futile, twice over, as it would find the state busy
+  // and wait again for release() to wake it.
+  if (notify) cv_.notify_one();
 }
 
 void Executor::enqueue_locked(Task task) {
@@ -57,6 +64,7 @@ void Executor::enqueue_locked(Task task) {
 
 void Executor::dispatch(Task task) {
   bool step_here = false;
+  bool notify = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (stopping_) {
@@ -70,10 +78,11 @@ void Executor::dispatch(Task task) {
       owed_since_ = Clock::now();
     } else {
       enqueue_locked(std::move(task));
+      notify = !busy_;  // as in post()
     }
   }
   if (!step_here) {
-    cv_.notify_one();
+    if (notify) cv_.notify_one();
     return;
   }
   guarded(task);
