@@ -102,6 +102,26 @@ TEST(Executor, WhatAnInlineStepQueuesRunsBeforeItLetsGo) {
   EXPECT_EQ(nested_ran_on, std::this_thread::get_id());
 }
 
+// A task queued by the executor thread's own task wakes nobody (the thread
+// is awake) and still runs: the loop finds it after the batch.
+TEST(Executor, WhatATaskPostsRunsAfterIt) {
+  std::promise<std::vector<int>> done;
+  std::vector<int> order;
+  Executor ex;
+  start_without_timers(ex);
+  ex.post([&] {
+    order.push_back(1);
+    ex.post([&] {
+      order.push_back(3);
+      done.set_value(order);
+    });
+    order.push_back(2);
+  });
+  auto f = done.get_future();
+  ASSERT_EQ(f.wait_for(kGenerous), std::future_status::ready);
+  EXPECT_EQ(f.get(), (std::vector<int>{1, 2, 3}));
+}
+
 TEST(Executor, ManyThreadsNeverStepAtOnce) {
   constexpr int kThreads = 4;
   constexpr int kEach = 2000;
