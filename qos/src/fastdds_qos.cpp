@@ -71,12 +71,18 @@ void apply_common(const EndpointQos& e, Qos& q) {
 
 }  // namespace
 
+std::chrono::nanoseconds nack_suppression(std::chrono::nanoseconds heartbeat_period) noexcept {
+  constexpr std::chrono::nanoseconds kFastDdsHeartbeatResponseDelay = std::chrono::milliseconds(5);
+  return std::min(heartbeat_period / 4, kFastDdsHeartbeatResponseDelay);
+}
+
 fdds::DataWriterQos fastdds_writer_qos(const EndpointQos& endpoint) {
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
   apply_common(endpoint, q);
   q.ownership_strength().value = static_cast<std::uint32_t>(endpoint.ownership_strength());
   if (const auto period = endpoint.reliable_heartbeat()) {
     q.reliable_writer_qos().times.heartbeatPeriod = to_duration(*period);
+    q.reliable_writer_qos().times.nackSupressionDuration = to_duration(nack_suppression(*period));
   }
   // Keyed types cannot use data-sharing in 2.9; say so instead of AUTO.
   q.data_sharing().off();

@@ -33,6 +33,8 @@ TEST(Presets, StateTopicHoldsDocumentedPolicies) {
   EXPECT_EQ(w.liveliness().kind, fdds::AUTOMATIC_LIVELINESS_QOS);
   EXPECT_EQ(w.liveliness().lease_duration, eprosima::fastrtps::c_TimeInfinite);
   EXPECT_EQ(w.reliable_writer_qos().times.heartbeatPeriod, to_duration(20ms));
+  // Not Fast DDS's 0, which wakes its event thread on every write.
+  EXPECT_EQ(w.reliable_writer_qos().times.nackSupressionDuration, to_duration(5ms));
   EXPECT_GE(w.resource_limits().max_instances, 1024);
   const auto r = mtc::qos::fastdds_reader_qos(mtc::qos::state_topic());
   EXPECT_EQ(r.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS);
@@ -40,6 +42,19 @@ TEST(Presets, StateTopicHoldsDocumentedPolicies) {
   EXPECT_EQ(r.liveliness().kind, fdds::AUTOMATIC_LIVELINESS_QOS);
   EXPECT_EQ(r.history().depth, 8);  // bursts are handed over, not collapsed
   EXPECT_EQ(r.resource_limits().max_samples_per_instance, 8);
+}
+
+TEST(Presets, NackSuppressionIsAQuarterOfTheHeartbeatPeriodAtMostFiveMilliseconds) {
+  // At most the Fast DDS reader's 5 ms HEARTBEAT response delay, so that no
+  // NACK of a lost sample from such a reader is ever suppressed.
+  EXPECT_EQ(mtc::qos::nack_suppression(20ms), 5ms);
+  EXPECT_EQ(mtc::qos::nack_suppression(8ms), 2ms);
+  EXPECT_EQ(mtc::qos::nack_suppression(100ms), 5ms);
+  EXPECT_EQ(mtc::qos::nack_suppression(1ms), 250us);
+  mtc::qos::Timing fast;
+  fast.reliable_heartbeat = 8ms;
+  const auto w = mtc::qos::fastdds_writer_qos(mtc::qos::state_topic(fast));
+  EXPECT_EQ(w.reliable_writer_qos().times.nackSupressionDuration, to_duration(2ms));
 }
 
 TEST(Presets, HeartbeatTopicCarriesDeadlineAndLiveliness) {
@@ -148,6 +163,8 @@ void expect_same_writer(const std::string& profile, const fdds::DataWriterQos& c
   EXPECT_EQ(a.topic.resourceLimitsQos.max_samples_per_instance,
             code.resource_limits().max_samples_per_instance);
   EXPECT_EQ(a.times.heartbeatPeriod, code.reliable_writer_qos().times.heartbeatPeriod) << profile;
+  EXPECT_EQ(a.times.nackSupressionDuration, code.reliable_writer_qos().times.nackSupressionDuration)
+      << profile;
 }
 
 void expect_same_reader(const std::string& profile, const fdds::DataReaderQos& code) {

@@ -15,8 +15,23 @@
 namespace mtc::qos {
 
 // The writer side: the common policies, ownership strength, the RTPS
-// HEARTBEAT period (reliable_heartbeat) and data-sharing off.
+// HEARTBEAT period (reliable_heartbeat) with its NACK suppression window
+// (nack_suppression()) and data-sharing off.
 eprosima::fastdds::dds::DataWriterQos fastdds_writer_qos(const EndpointQos& endpoint);
+
+// The RTPS nackSuppressionDuration of a reliable writer whose HEARTBEAT
+// period is `heartbeat_period`: a quarter of it, at most 5 ms. Why not Fast
+// DDS's 0: in 2.9 every DATA sent restarts a per-reader suppression timer,
+// and a timer that is not running wakes the participant's event thread,
+// which at 0 fires at once and takes the writer's mutex while the writing
+// thread still holds it: two to four futex wake-ups in the middle of every
+// write (docs/benchmarks.md, "NACK suppression"). With a window, only the
+// first write of a burst starts the timer. Why at most 5 ms: a NACK of a lost
+// sample answers a HEARTBEAT sent after it, and a Fast DDS reader answers a
+// HEARTBEAT after its heartbeatResponseDelay, 5 ms, so no NACK from such a
+// reader ever falls in the window; one from a quicker reader (Cyclone) that
+// does is answered at the next HEARTBEAT period.
+std::chrono::nanoseconds nack_suppression(std::chrono::nanoseconds heartbeat_period) noexcept;
 // The reader side: the common policies with reader_depth() and
 // reader_max_instances() in place of depth() and max_instances().
 eprosima::fastdds::dds::DataReaderQos fastdds_reader_qos(const EndpointQos& endpoint);
