@@ -23,10 +23,13 @@ LABELS = {
 
 
 def label(name):
+    inline = name.endswith("_inline")
+    if inline:
+        name = name[:-len("_inline")]
     for prefix, text in LABELS.items():
         if name.startswith(prefix):
             procs = "1 proc" if name.endswith("_1proc") else "2 proc"
-            return "%s, %s" % (text, procs)
+            return "%s, %s%s" % (text, procs, ", inline steps" if inline else "")
     return name
 
 

@@ -107,7 +107,10 @@ else
 fi
 
 if [ -x "$bin/mtc-bench-dds-latency" ]; then
-  dds_args=(--out "$out/dds_latency.json" --samples-out "$out/dds_latency_samples.json")
+  # Both step modes, in the same rounds and against the same baselines: the
+  # runtime's default (executor) and inline steps (issue 9 section 2).
+  dds_args=(--out "$out/dds_latency.json" --samples-out "$out/dds_latency_samples.json"
+    --step-modes both)
   [ "$quick" = 1 ] && dds_args+=(--samples 100 --warmup 50 --handshakes 30 --rounds 1 --cyclone-seconds 1)
   run_one mtc-bench-dds-latency "$bin/mtc-bench-dds-latency" "${dds_args[@]}" >/dev/null
   if [ -s "$out/dds_latency.json" ]; then

@@ -293,11 +293,13 @@ PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, 
     }
     stop_peer(peer);
   }
-  const std::string suffix = "_" + transport_name(t) + "_" + std::to_string(processes) + "proc";
+  const std::string suffix = "_" + transport_name(t) + "_" + std::to_string(processes) + "proc" +
+                             (g_inline_steps ? "_inline" : "");
   for (Series* s : {&run.transition, &run.handshake}) {
     s->layer = "mtc_equipment";
     s->transport = transport_name(t);
     s->processes = processes;
+    s->inline_steps = g_inline_steps;
   }
   run.transition.metric = "transition";
   run.transition.name = "mtc_transition" + suffix;

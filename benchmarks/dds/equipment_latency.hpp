@@ -20,8 +20,13 @@ struct EquipmentBenchOptions {
   int round = 1;  // part of the devices' names: a new pair per round
 };
 
+// The inline pass of a run that measures both step modes names its devices
+// by round + this, so that no pair meets an earlier pair's names.
+inline constexpr int kInlineRoundOffset = 500;
+
 // Both ends of every series with EquipmentOptions::inline_steps (default
-// off: the runtime's default); call before the series or the peer run.
+// off: the runtime's default); call before the series or the peer run. The
+// series of an inline run carry "_inline" after their names.
 void set_inline_steps(bool on);
 
 // The handshake series of the runtime (mtc::dds), one per transport.

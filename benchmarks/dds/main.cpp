@@ -44,7 +44,8 @@ struct Options {
   std::string samples_out;
   bool raw = true;
   bool equipment = true;
-  bool inline_steps = false;
+  bool inline_steps = false;       // --inline-steps, or --step-modes inline
+  bool both_step_modes = false;    // --step-modes both
   bool peer = false;               // internal: this process is the forked ponger
   bool equipment_peer = false;     // internal: the forked responder equipment
   bool cyclone_equipment = false;  // internal: that equipment runs on Cyclone DDS
@@ -75,9 +76,17 @@ constexpr const char* kAbout =
     "   \"cyclone\":{...},\"ratios\":[...],\"targets\":{...}}\n"
     "(benchmarks/run.sh: bench-results/dds_latency.json, plotted to dds_latency.png).";
 
+// --step-modes: false when "both" has more rounds than device names allow.
+bool apply_step_modes(const std::string& modes, Options& o) {
+  if (modes == "inline") o.inline_steps = true;
+  o.both_step_modes = modes == "both";
+  return !o.both_step_modes || o.rounds <= mtc::bench::kInlineRoundOffset;
+}
+
 // Usage errors -> exit code; nullopt to run.
 std::optional<int> parse_args(int argc, char** argv, Options& o) {
   std::string only;
+  std::string step_modes;
   std::string transport = mtc::bench::to_string(o.transport);
   mtc::bench::Cli cli("mtc-bench-dds-latency", kAbout);
   cli.integer("--samples", o.samples, 1, 10000000,
@@ -94,6 +103,10 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .flag("--inline-steps", o.inline_steps,
             "the equipment series with EquipmentOptions::inline_steps\n(both ends; default: off, "
             "as the runtime)")
+      .choice("--step-modes", step_modes, {"executor", "inline", "both"},
+              "the equipment series with the executor (the\nruntime's default), inline steps, or "
+              "both, one\nafter the other in every round; inline series\nend in \"_inline\" "
+              "(default executor)")
       .text("--samples-out", "FILE", o.samples_out,
             "write every series' samples, sorted, to FILE as\n{\"name\":[us,...],...} (for CDF "
             "plots)")
@@ -115,6 +128,10 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .integer("--domain", o.domain, 0, 232, "the peer's DDS domain");
   if (const auto exit_code = cli.parse(argc, argv)) {
     return exit_code;
+  }
+  if (!apply_step_modes(step_modes, o)) {
+    return cli.usage_error("--step-modes both: at most " +
+                           std::to_string(mtc::bench::kInlineRoundOffset) + " rounds");
   }
   if (!only.empty()) {
     o.raw = only == "raw";
@@ -162,8 +179,10 @@ std::string to_json(const Options& o, const std::vector<Series>& all, const RunC
   std::ostringstream json;
   json << "{\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"cores\":"
        << std::thread::hardware_concurrency() << ",\"samples\":" << o.samples
-       << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds
-       << ",\"inline_steps\":" << (o.inline_steps ? "true" : "false")
+       << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds << ",\"inline_steps\":"
+       << (o.both_step_modes ? "\"both\""
+           : o.inline_steps  ? "true"
+                             : "false")
        << ",\"load_average_start\":" << load_json(run.load_start)
        << ",\"load_average_end\":" << load_json(run.load_end)
        << ",\"cpu_note\":\"cpu_us_per_op: user+system CPU of every process taking part "
@@ -200,6 +219,14 @@ std::vector<Series> run_round(const Options& o, int round_number) {
     eo.handshakes = std::max(1, o.handshakes / o.rounds);
     for (auto& s : mtc::bench::run_equipment_series(eo)) {
       round.push_back(std::move(s));
+    }
+    if (o.both_step_modes) {
+      mtc::bench::set_inline_steps(true);
+      eo.round += mtc::bench::kInlineRoundOffset;
+      for (auto& s : mtc::bench::run_equipment_series(eo)) {
+        round.push_back(std::move(s));
+      }
+      mtc::bench::set_inline_steps(false);
     }
   }
   return round;

@@ -23,7 +23,8 @@ def label(series):
     }.get(series.get("metric", ""), series.get("name", "?"))
     transport = {"udp_loopback": "UDP", "shm_udp": "SHM+UDP"}.get(
         series.get("transport", ""), series.get("transport", ""))
-    return "%s\\n%s, %s proc" % (metric, transport, series.get("processes", "?"))
+    inline = ", inline" if series.get("inline_steps") is True else ""
+    return "%s\\n%s, %s proc%s" % (metric, transport, series.get("processes", "?"), inline)
 
 
 ORDER = {"round_trip": 0, "transition": 1, "handshake": 2}
