@@ -9,8 +9,9 @@
 // - reliable_heartbeat: Cyclone's writer HEARTBEAT period is a domain setting
 //   (Internal/HeartbeatInterval, 100 ms by default and adaptive), not a QoS;
 //   cyclone_domain_config() sets it from the Timing instead.
-// - Fast DDS's liveliness announcement_period and data-sharing: Fast DDS
-//   only, never on the wire.
+// - Fast DDS's liveliness announcement_period, data-sharing and NACK
+//   suppression window (nack_suppression()): Fast DDS only, never on the
+//   wire.
 #pragma once
 
 #include <dds/dds.h>
