@@ -219,8 +219,16 @@ void EquipmentImpl::start_heartbeats() {
     beats.push_back({t.heartbeat, t.lease(), [this, g] { write_heartbeat(g); }});
   }
   heartbeat_thread = std::make_unique<detail::HeartbeatThread>(
-      std::move(beats), executor,
-      [this](const std::string& text) { executor.post([this, text] { diagnostic(text); }); });
+      std::move(beats), executor, [this](const std::string& text, bool executor_stuck) {
+        // A stuck executor would hold the diagnostic until it recovers, if
+        // ever: the operator reads it on stderr now, the application later.
+        if (executor_stuck) {
+          std::cerr << "mtc::dds::Equipment " + options.device_uuid + ": " + text +
+                           " (said at once: the executor cannot)\n"
+                    << std::flush;
+        }
+        executor.post([this, text] { diagnostic(text); });
+      });
 }
 
 void EquipmentImpl::write_heartbeat(std::size_t index, bool leaving) {

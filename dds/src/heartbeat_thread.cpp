@@ -93,12 +93,14 @@ void HeartbeatThread::beat_group(std::size_t index, Clock::time_point now) {
     if (!withheld_[index]) {
       withheld_[index] = true;
       report_("heartbeat group " + std::to_string(index) + " withheld: the executor has made " +
-              "no progress for " + std::to_string(ms(owed)) + " ms");
+                  "no progress for " + std::to_string(ms(owed)) + " ms",
+              true);
     }
   } else {
     if (withheld_[index]) {
       withheld_[index] = false;
-      report_("heartbeat group " + std::to_string(index) + " resumed: the executor made progress");
+      report_("heartbeat group " + std::to_string(index) + " resumed: the executor made progress",
+              false);
     }
     try {
       g.beat();
@@ -109,7 +111,7 @@ void HeartbeatThread::beat_group(std::size_t index, Clock::time_point now) {
       }
       last_beat_[index] = written;
     } catch (const std::exception& e) {
-      report_("heartbeat group " + std::to_string(index) + ": " + e.what());
+      report_("heartbeat group " + std::to_string(index) + ": " + e.what(), false);
     }
   }
   next_[index] += g.period;

@@ -39,7 +39,9 @@ class HeartbeatThread {
   };
   // Called on the heartbeat thread with a sentence for the application's
   // diagnostics (it should post it to the executor, never run callbacks).
-  using Report = std::function<void(const std::string&)>;
+  // `executor_stuck`: the sentence says the executor makes no progress, so a
+  // post will not reach the application before it recovers, if ever.
+  using Report = std::function<void(const std::string&, bool executor_stuck)>;
 
   // Starts the thread; the first heartbeat of every group is written at once.
   HeartbeatThread(std::vector<Group> groups, const Executor& executor, Report report);

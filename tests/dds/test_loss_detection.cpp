@@ -8,9 +8,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <condition_variable>
+#include <initializer_list>
+#include <iostream>
 #include <memory>
 #include <mutex>
+#include <streambuf>
 #include <string>
 #include <utility>
 
@@ -86,11 +90,60 @@ TEST(LossDetection, KilledOrStoppedPeerIsLostWithinTwoLeasesAndNothingElse) {
   EXPECT_EQ(static_cast<std::size_t>(lost), losses) << rec.dump();
 }
 
+// std::cerr into a string, for what a thread other than the test's writes
+// there; restores std::cerr when it goes. Make it before the equipments
+// whose threads write, so that it outlives them.
+class CerrCapture : public std::streambuf {
+ public:
+  CerrCapture() : previous_(std::cerr.rdbuf(this)) {}
+  ~CerrCapture() override { std::cerr.rdbuf(previous_); }
+  CerrCapture(const CerrCapture&) = delete;
+  CerrCapture& operator=(const CerrCapture&) = delete;
+  std::string text() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return text_;
+  }
+  // Whether every needle was written within `timeout`.
+  bool wait_for(std::initializer_list<const char*> needles, std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return written_.wait_for(lock, timeout, [&] {
+      return std::all_of(needles.begin(), needles.end(),
+                         [&](const char* n) { return text_.find(n) != std::string::npos; });
+    });
+  }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (c != traits_type::eof()) {
+      const char ch = traits_type::to_char_type(c);
+      xsputn(&ch, 1);
+    }
+    return c;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      text_.append(s, static_cast<std::size_t>(n));
+    }
+    written_.notify_all();
+    return n;
+  }
+
+ private:
+  std::streambuf* previous_;
+  mutable std::mutex mutex_;
+  std::condition_variable written_;
+  std::string text_;
+};
+
 // A hung executor (here: a posted task that blocks) must not be hidden by
 // the heartbeat thread: the watchdog withholds the heartbeat once the
 // executor has made no progress for a lease, the peer declares the link
 // lost, and when the executor moves again the heartbeat and the link return.
+// The hung process says so on stderr at once (its diagnostics callback must
+// wait for the executor).
 TEST(LossDetection, HungExecutorStopsItsHeartbeat) {
+  CerrCapture cerr;
   Recorder cnc_rec;
   Recorder robot_rec;
   std::mutex diag_mutex;
@@ -139,6 +192,9 @@ TEST(LossDetection, HungExecutorStopsItsHeartbeat) {
     gate->cv.wait(lock, [&] { return gate->open; });
   });
   ASSERT_TRUE(cnc_rec.wait_link(cnc, "mh1", LinkState::Lost)) << cnc_rec.dump();
+  // Still hung: only stderr can have said it.
+  EXPECT_TRUE(cerr.wait_for({"robot-hang: heartbeat group 0 withheld", "said at once"}, kTimeout))
+      << cerr.text();
   const auto lost = cnc_rec.links().back();
   // A real silence (the loss rule: a lease less half a heartbeat).
   const auto& t = robot.options().timing;

@@ -27,7 +27,8 @@
 // itself), never destroy the Equipment from its own callback, and keep
 // callbacks short: the heartbeat thread withholds the heartbeat while the
 // executor makes no progress for a lease, so a callback that blocks for a
-// lease looks like a hung device to the peers (which is what it is).
+// lease looks like a hung device to the peers (which is what it is), and
+// is written to stderr at once ("heartbeat group N withheld").
 #pragma once
 
 #include <chrono>
