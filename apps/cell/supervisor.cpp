@@ -109,7 +109,7 @@ class Supervisor {
       const auto now = Clock::now();
       Clock::duration wait = std::chrono::seconds(1);
       if (stopping_) {
-        wait = std::min<Clock::duration>(wait, kill_at_ - now);
+        wait = std::min<Clock::duration>(wait, (rest_stopped_ ? kill_at_ : rest_at_) - now);
       }
       if (!stopping_ && freeze_at_) {
         wait = std::min<Clock::duration>(wait, *freeze_at_ - now);
@@ -128,7 +128,10 @@ class Supervisor {
           Clock::now() >= started + std::chrono::seconds(options_.duration_s)) {
         begin_stop("duration reached", 0);
       }
-      if (stopping_ && Clock::now() >= kill_at_) {
+      if (stopping_ && !rest_stopped_ && (!machine().running || Clock::now() >= rest_at_)) {
+        stop_the_rest();
+      }
+      if (stopping_ && rest_stopped_ && Clock::now() >= kill_at_) {
         kill_survivors();
       }
       if (!stopping_ && freeze_at_ && Clock::now() >= *freeze_at_) {
@@ -185,6 +188,14 @@ class Supervisor {
     return options_.timing.lease() + std::chrono::seconds(3);
   }
 
+  Child& machine() {
+    return *std::find_if(children_.begin(), children_.end(),
+                         [](const Child& c) { return c.id == StationId::Machine; });
+  }
+
+  // The machine first: it drives the cycle, and a handshake it has in
+  // flight when its counterpart leaves would count as a failure it can no
+  // longer recover from. The others once it is gone (or after 2 s).
   void begin_stop(const char* why, int code) {
     if (frozen_) {
       kill(frozen_->pid, SIGCONT);  // a stopped process cannot act on SIGTERM
@@ -192,8 +203,16 @@ class Supervisor {
     frozen_ = nullptr;
     stopping_ = true;
     exit_code_ = code;
-    kill_at_ = Clock::now() + std::chrono::seconds(5);
+    rest_at_ = Clock::now() + std::chrono::seconds(2);
     print_line("cell", format("%s: stopping every station", why));
+    if (machine().running) {
+      kill(machine().pid, SIGTERM);
+    }
+  }
+
+  void stop_the_rest() {
+    rest_stopped_ = true;
+    kill_at_ = Clock::now() + std::chrono::seconds(5);
     for (const auto& c : children_) {
       if (c.running) {
         kill(c.pid, SIGTERM);
@@ -246,7 +265,9 @@ class Supervisor {
   unsigned freezes_ = 0;
   std::uint64_t rng_state_ = options_.seed;
   bool stopping_ = false;
+  bool rest_stopped_ = false;  // SIGTERM sent to the stations after the machine
   int exit_code_ = 0;
+  Clock::time_point rest_at_{};
   Clock::time_point kill_at_{};
 };
 
