@@ -452,7 +452,7 @@ DomainObserver::DomainObserver(const DomainObserverOptions& options,
     }
   }
   auto* impl = impl_.get();
-  impl->executor.set_inline_steps(options.inline_steps);
+  impl->executor.set_inline_steps(options.inline_steps, /*steps_write=*/false);
   impl->executor.start(
       [impl] { return std::min(impl->next_silence_check(), impl->reannounce.next()); },
       [impl](detail::Executor::Clock::time_point now) {

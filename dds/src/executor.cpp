@@ -2,12 +2,30 @@
 
 #include <pthread.h>
 
+#include <algorithm>
 #include <exception>
 #include <iostream>
+#include <optional>
 
 namespace mtc::dds::detail {
 
 namespace {
+
+// How many states this thread owns right now (an inline step, the executor
+// thread's batch), of any Executor. A thread that owns one never steps
+// another inline: Cyclone DDS delivers to a reader of the same process on the
+// writer's thread and lets one thread at a time into a reader's listener, so
+// an equipment stepped inside another's write, writing back, would wait for
+// the listener its own thread is in (seen: two equipments of one process
+// both stuck). Queued instead, the step goes to that equipment's executor.
+thread_local int t_states_owned = 0;
+
+struct OwningAState {
+  OwningAState() noexcept { ++t_states_owned; }
+  ~OwningAState() { --t_states_owned; }
+  OwningAState(const OwningAState&) = delete;
+  OwningAState& operator=(const OwningAState&) = delete;
+};
 
 // A throwing task or timer must not take the executor down with it.
 template <typename Fn>
@@ -55,6 +73,33 @@ void Executor::post(Task task) {
   if (notify) cv_.notify_one();
 }
 
+void Executor::post_report(Task task) {
+  bool notify = false;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (reports_.empty() && !reporting_) {
+      reports_owed_since_ = Clock::now();
+    }
+    reports_.push_back(std::move(task));
+    // Only a sleeping executor thread needs waking; an awake one looks at
+    // the reports before it sleeps again. Nor while a step owns the state:
+    // release() wakes it after the step, so that the wake-up (a futex call,
+    // a cross-core interrupt) never delays the step's own writes.
+    notify = !busy_ && sleeping_until_ != Clock::time_point::min();
+  }
+  if (notify) cv_.notify_one();
+}
+
+void Executor::run_reports(std::deque<Task>& batch) {
+  for (auto& report : batch) {
+    guarded(report);
+  }
+  batch.clear();
+  std::lock_guard<std::mutex> lock(mutex_);
+  reporting_ = false;
+  reports_owed_since_ = reports_.empty() ? Clock::time_point{} : Clock::now();
+}
+
 void Executor::enqueue_locked(Task task) {
   if (tasks_.empty() && !busy_ && owed_since_ == Clock::time_point{}) {
     owed_since_ = Clock::now();
@@ -72,7 +117,8 @@ void Executor::dispatch(Task task) {
     }
     // Queued tasks go first (posting order), and the executor thread must
     // exist to pick up what this step leaves behind.
-    step_here = inline_steps_ && started_ && !busy_ && tasks_.empty();
+    step_here = inline_steps_ && started_ && !busy_ && tasks_.empty() &&
+                (t_states_owned == 0 || !steps_write_);
     if (step_here) {
       busy_ = true;
       owed_since_ = Clock::now();
@@ -85,8 +131,12 @@ void Executor::dispatch(Task task) {
     if (notify) cv_.notify_one();
     return;
   }
-  guarded(task);
-  drain_while_owner();
+  {
+    std::optional<OwningAState> owning;
+    if (steps_write_) owning.emplace();
+    guarded(task);
+    drain_while_owner();
+  }
   release();
 }
 
@@ -109,10 +159,11 @@ void Executor::drain_while_owner() {
 
 Executor::Clock::duration Executor::owed_for(Clock::time_point now) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (owed_since_ == Clock::time_point{} || now < owed_since_) {
-    return Clock::duration::zero();
+  auto owed = Clock::duration::zero();
+  for (const auto since : {owed_since_, reports_owed_since_}) {
+    if (since != Clock::time_point{} && now > since) owed = std::max(owed, now - since);
   }
-  return now - owed_since_;
+  return owed;
 }
 
 void Executor::stop() {
@@ -137,9 +188,9 @@ void Executor::release() {
     // Progress: what is waiting now is owed from now on.
     owed_since_ = tasks_.empty() ? Clock::time_point{} : Clock::now();
     // After an inline step, the executor thread has work only if it waits
-    // for the state, if tasks came meanwhile, or if the step moved the next
-    // instant before the one it sleeps on.
-    wake_executor = sleeping_on_state_ || !tasks_.empty() || stopping_ ||
+    // for the state, if tasks or reports came meanwhile, or if the step
+    // moved the next instant before the one it sleeps on.
+    wake_executor = sleeping_on_state_ || !tasks_.empty() || !reports_.empty() || stopping_ ||
                     (sleeping_until_ != Clock::time_point::min() && wake < sleeping_until_);
   }
   if (wake_executor) cv_.notify_one();
@@ -147,6 +198,9 @@ void Executor::release() {
 
 Executor::Clock::time_point Executor::await_work(std::unique_lock<std::mutex>& lock) {
   for (;;) {
+    if (!reports_.empty()) {
+      return wake_at_;  // reports need no state: they run while a step owns it
+    }
     if (!busy_) {
       if (stopping_ || !tasks_.empty()) {
         return wake_at_;
@@ -179,24 +233,38 @@ void Executor::run() {
   std::deque<Task> batch;
   for (;;) {
     Clock::time_point wake;
+    bool reports = false;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake = await_work(lock);
-      batch.swap(tasks_);
-      if (stopping_ && batch.empty()) {
-        return;
-      }
-      busy_ = true;
-      if (owed_since_ == Clock::time_point{}) {
-        owed_since_ = Clock::now();  // a timer's work
+      reports = reporting_ = !reports_.empty();
+      if (reports) {
+        batch.swap(reports_);
+      } else {
+        batch.swap(tasks_);
+        if (stopping_ && batch.empty()) {
+          return;
+        }
+        busy_ = true;
+        if (owed_since_ == Clock::time_point{}) {
+          owed_since_ = Clock::now();  // a timer's work
+        }
       }
     }
-    for (auto& task : batch) {
-      guarded(task);
+    if (reports) {
+      run_reports(batch);
+      continue;
     }
-    batch.clear();
-    if (on_wake_ && Clock::now() >= wake) {
-      guarded([this] { on_wake_(Clock::now()); });
+    {
+      std::optional<OwningAState> owning;
+      if (steps_write_) owning.emplace();
+      for (auto& task : batch) {
+        guarded(task);
+      }
+      batch.clear();
+      if (on_wake_ && Clock::now() >= wake) {
+        guarded([this] { on_wake_(Clock::now()); });
+      }
     }
     release();
   }

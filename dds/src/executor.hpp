@@ -32,7 +32,13 @@ class Executor {
   Executor& operator=(const Executor&) = delete;
 
   // Before start(): let dispatch() step inline (default: never).
-  void set_inline_steps(bool on) noexcept { inline_steps_ = on; }
+  // `steps_write`: the state's steps write DDS samples (an Equipment's do,
+  // an observer's do not); such a step is never taken inline by a thread
+  // that owns a state already (executor.cpp says why).
+  void set_inline_steps(bool on, bool steps_write = true) noexcept {
+    inline_steps_ = on;
+    steps_write_ = steps_write;
+  }
   void start(NextWake next_wake, OnWake on_wake);
   // Thread-safe; tasks run in posting order, on the executor thread. Ignored
   // after stop().
@@ -40,6 +46,11 @@ class Executor {
   // Like post(), but with inline steps on, a task that finds the state idle
   // (nothing queued, nothing running) runs now on the calling thread.
   void dispatch(Task task);
+  // A report (an application callback, a command's result): runs on the
+  // executor thread, reports in posting order, but without owning the state,
+  // so that a value stepped inline meanwhile never waits for a callback.
+  // stop() runs those queued before the executor thread ends.
+  void post_report(Task task);
   // Runs the remaining queued tasks, then joins. Idempotent.
   void stop();
   bool on_executor_thread() const noexcept {
@@ -48,8 +59,9 @@ class Executor {
   // How long the executor has owed work without finishing any: zero when it
   // is idle or has just finished a batch; otherwise the time since tasks
   // were posted to it idle, or since it last finished a batch while more
-  // were waiting. The heartbeat thread's watchdog: a process whose executor
-  // is stuck must stop heartbeating, so that its peers see it as lost.
+  // were waiting; the same for reports, the longer of the two. The heartbeat
+  // thread's watchdog: a process whose executor is stuck (a callback that
+  // blocks included) must stop heartbeating, so that its peers see it lost.
   Clock::duration owed_for(Clock::time_point now) const;
 
  private:
@@ -60,12 +72,15 @@ class Executor {
   Clock::time_point await_work(std::unique_lock<std::mutex>& lock);
   // An inline step's owner runs what was queued meanwhile before it lets go.
   void drain_while_owner();
+  // Executor thread: runs the queued reports (mutex_ not held).
+  void run_reports(std::deque<Task>& batch);
   // The owner's last act: the next wake-up, then the state is free again.
   void release();
 
   NextWake next_wake_;
   OnWake on_wake_;
   bool inline_steps_ = false;
+  bool steps_write_ = true;
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Task> tasks_;
@@ -78,6 +93,9 @@ class Executor {
   Clock::time_point sleeping_until_ = Clock::time_point::min();  // min: awake
   bool sleeping_on_state_ = false;  // waits for an inline step to finish
   Clock::time_point owed_since_{};  // == Clock::time_point{}: owes nothing
+  std::deque<Task> reports_;
+  bool reporting_ = false;                  // the executor thread runs reports
+  Clock::time_point reports_owed_since_{};  // as owed_since_, for reports
   std::thread thread_;
 };
 

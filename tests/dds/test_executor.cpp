@@ -122,6 +122,32 @@ TEST(Executor, WhatATaskPostsRunsAfterIt) {
   EXPECT_EQ(f.get(), (std::vector<int>{1, 2, 3}));
 }
 
+// A thread inside one equipment's step (its write delivering, as Cyclone
+// DDS does within a process, to another equipment's listener) never steps a
+// second equipment inline: that one's executor takes it. A state whose
+// steps write nothing (an observer's) may still be stepped there.
+TEST(Executor, AThreadOwningAStateStepsNoOtherThatWritesInline) {
+  Executor outer;
+  Executor writes;
+  Executor reads_only;
+  for (Executor* ex : {&outer, &writes, &reads_only}) ex->set_inline_steps(true);
+  reads_only.set_inline_steps(true, /*steps_write=*/false);
+  for (Executor* ex : {&outer, &writes, &reads_only}) start_without_timers(*ex);
+  std::promise<std::thread::id> writes_ran_on;
+  std::thread::id reads_only_ran_on;
+  std::thread::id outer_ran_on;
+  outer.dispatch([&] {
+    outer_ran_on = std::this_thread::get_id();
+    writes.dispatch([&] { writes_ran_on.set_value(std::this_thread::get_id()); });
+    reads_only.dispatch([&] { reads_only_ran_on = std::this_thread::get_id(); });
+  });
+  auto f = writes_ran_on.get_future();
+  ASSERT_EQ(f.wait_for(kGenerous), std::future_status::ready);
+  EXPECT_EQ(outer_ran_on, std::this_thread::get_id());
+  EXPECT_NE(f.get(), std::this_thread::get_id());            // on its executor thread
+  EXPECT_EQ(reads_only_ran_on, std::this_thread::get_id());  // inline, nested
+}
+
 TEST(Executor, ManyThreadsNeverStepAtOnce) {
   constexpr int kThreads = 4;
   constexpr int kEach = 2000;
