@@ -51,16 +51,16 @@ std::future<R> EquipmentImpl::run(Fn fn) {
   }
   auto promise = std::make_shared<std::promise<R>>();
   auto future = promise->get_future();
-  executor.dispatch([promise, fn = std::move(fn)]() mutable {
+  executor.dispatch([this, promise, fn = std::move(fn)]() mutable {
     try {
       if constexpr (std::is_void_v<R>) {
         fn();
-        promise->set_value();
+        settle([promise] { promise->set_value(); });
       } else {
-        promise->set_value(fn());
+        settle([promise, result = fn()] { promise->set_value(result); });
       }
     } catch (...) {
-      promise->set_exception(std::current_exception());
+      settle([promise, e = std::current_exception()] { promise->set_exception(e); });
     }
   });
   return future;
@@ -123,7 +123,7 @@ void Requester::request(RequestOptions options,
     const auto now = SteadyClock::now();
     auto reject = [&](core::Reason reason) {
       RequestResult r{Outcome::Rejected, reason, {}};
-      if (cb) impl->guard_callback("request result", [&] { cb(r); });
+      if (cb) impl->report("request result", [cb, r] { cb(r); });
     };
     if (s.pending) {
       reject(core::Reason::AlreadyActive);
@@ -172,6 +172,9 @@ Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
                       std::to_string(options.pairing_settle.count()) + " ms outside 0..60000 ms");
   }
   if (options.device_name.empty()) options.device_name = options.device_uuid;
+  // Callbacks stay on the executor thread unless inline_steps; set before
+  // any thread could read it.
+  impl_->defer_reports = !options.inline_steps && !options.steps_on_executor;
   impl_->options = std::move(options);
   impl_->callbacks = std::move(callbacks);
 }
@@ -333,6 +336,11 @@ std::future<void> Equipment::set_chuck_state(const std::string& interface_id,
 
 void Equipment::post(std::function<void()> task) {
   auto* impl = impl_.get();
+  if (impl->defer_reports && impl->started.load()) {
+    // Application code, in order with the callbacks.
+    impl->report("posted task", std::move(task));
+    return;
+  }
   impl->run<void>([impl, task = std::move(task)] { impl->guard_callback("posted task", task); });
 }
 

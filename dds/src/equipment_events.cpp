@@ -154,7 +154,7 @@ void EquipmentImpl::deliver(InterfaceSlot& itf, const ObservedValue& v, bool mis
         v.paired_device_uuid == options.device_uuid && v.paired_interface_id == itf.config.id;
   }
   if (callbacks.on_counterpart_value) {
-    guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
+    report("on_counterpart_value", [this, v] { callbacks.on_counterpart_value(v); });
   }
   if (slot != nullptr) feed_counterpart(*slot, v, missed_change);
 }
@@ -482,7 +482,7 @@ void EquipmentImpl::set_link(InterfaceSlot& itf, LinkState next, const std::stri
   if (next == LinkState::Lost && itf.last_heard_ns != 0) {
     ev.silence = std::chrono::nanoseconds(ev.time_ns - itf.last_heard_ns);
   }
-  if (callbacks.on_link) guard_callback("on_link", [&] { callbacks.on_link(ev); });
+  if (callbacks.on_link) report("on_link", [this, ev] { callbacks.on_link(ev); });
 }
 
 }  // namespace mtc::dds

@@ -352,6 +352,31 @@ struct EquipmentImpl {
   // False (reported once) when `writer` is not of the participant that
   // announced `device`; an announcement claims an unowned device.
   bool owned_by_writer(const std::string& device, const detail::Handle& writer, detail::Said said);
+  // Steps may run on other threads than the executor's (the default, see
+  // EquipmentOptions::steps_on_executor): callbacks and command results then
+  // go to the executor thread as reports, in order.
+  bool defer_reports = false;
+  // An application callback, at once or as a report: `fn` owns what it
+  // needs, as it may run after the step.
+  template <typename Fn>
+  void report(const char* what, Fn fn) {
+    if (defer_reports) {
+      executor.post_report(
+          [this, what, fn = std::move(fn)]() mutable { guard_callback(what, fn); });
+    } else {
+      guard_callback(what, fn);
+    }
+  }
+  // A command's future made ready (`settle` sets it), after its step's
+  // callbacks.
+  template <typename Fn>
+  void settle(Fn settle) {
+    if (defer_reports) {
+      executor.post_report(std::move(settle));
+    } else {
+      settle();
+    }
+  }
   // Application callbacks must not take the executor down.
   template <typename Fn>
   void guard_callback(const char* what, Fn&& fn) {

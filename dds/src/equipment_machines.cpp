@@ -16,14 +16,17 @@ bool idle(core::InteractionState s) {
 }  // namespace
 
 void EquipmentImpl::diagnostic(const std::string& text) {
-  if (callbacks.on_diagnostic) {
-    try {
-      callbacks.on_diagnostic(text);
-      return;
-    } catch (...) {
+  const auto say = [this, text] {
+    if (callbacks.on_diagnostic) {
+      try {
+        callbacks.on_diagnostic(text);
+        return;
+      } catch (...) {
+      }
     }
-  }
-  std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": " << text << '\n';
+    std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": " << text << '\n';
+  };
+  settle(say);  // a report like the callbacks, never through guard_callback
 }
 
 ServiceSlot* EquipmentImpl::slot_for(InterfaceSlot& itf, core::Service service,
@@ -75,26 +78,26 @@ void EquipmentImpl::handle_result(ServiceSlot& slot, const core::StepResult& r,
     ev.trigger_source_time_ns = source_ns;
     ev.trigger_receive_time_ns = receive_ns;
     if (callbacks.on_transition) {
-      guard_callback("on_transition", [&] { callbacks.on_transition(ev); });
+      report("on_transition", [this, ev] { callbacks.on_transition(ev); });
     }
   }
   resolve_pending(slot, r);
   if (slot.role != core::Role::Responder) return;
-  auto& responder = static_cast<Responder&>(*slot.handle);
-  const auto& cb = slot.responder_callbacks;
+  auto* responder = static_cast<Responder*>(slot.handle.get());
+  const auto* cb = &slot.responder_callbacks;
   if (r.notice == core::Notice::RequestObserved) {
     if (!slot.options.auto_accept) {
-      if (cb.on_request) guard_callback("on_request", [&] { cb.on_request(responder); });
+      if (cb->on_request) report("on_request", [cb, responder] { cb->on_request(*responder); });
     } else if (machine->state() == core::InteractionState::Ready) {
       apply(slot, core::Event::Accept, SteadyClock::now(), source_ns, receive_ns);
     }
   } else if (r.notice == core::Notice::Accepted && r.changed() && slot.options.auto_accept) {
-    if (cb.on_request) guard_callback("on_request", [&] { cb.on_request(responder); });
+    if (cb->on_request) report("on_request", [cb, responder] { cb->on_request(*responder); });
   }
   const bool was_serving = r.previous == core::InteractionState::Active ||
                            r.previous == core::InteractionState::Complete;
-  if (was_serving && r.entered_fail() && r.notice != core::Notice::Failed && cb.on_abort) {
-    guard_callback("on_abort", [&] { cb.on_abort(responder, r.reason); });
+  if (was_serving && r.entered_fail() && r.notice != core::Notice::Failed && cb->on_abort) {
+    report("on_abort", [cb, responder, reason = r.reason] { cb->on_abort(*responder, reason); });
   }
 }
 
@@ -138,7 +141,9 @@ void EquipmentImpl::resolve_pending(ServiceSlot& slot, const core::StepResult& r
   result.elapsed = SteadyClock::now() - slot.pending->started;
   auto pending = std::move(*slot.pending);
   slot.pending.reset();
-  if (pending.callback) guard_callback("request result", [&] { pending.callback(result); });
+  if (pending.callback) {
+    report("request result", [cb = std::move(pending.callback), result] { cb(result); });
+  }
 }
 
 // Issues a pending request when both sides are READY; otherwise waits until
@@ -172,7 +177,9 @@ void EquipmentImpl::end_pending(ServiceSlot& slot, Outcome outcome, core::Reason
   RequestResult result{outcome, reason, SteadyClock::now() - slot.pending->started};
   auto pending = std::move(*slot.pending);
   slot.pending.reset();
-  if (pending.callback) guard_callback("request result", [&] { pending.callback(result); });
+  if (pending.callback) {
+    report("request result", [cb = std::move(pending.callback), result] { cb(result); });
+  }
 }
 
 SteadyClock::time_point EquipmentImpl::next_wake() const {

@@ -120,7 +120,7 @@ void EquipmentImpl::take_counterpart_value(InterfaceSlot& itf, const detail::Han
   }
   if (v.state.interface_state() == core::InterfaceState::Unavailable) {
     if (callbacks.on_counterpart_value) {
-      guard_callback("on_counterpart_value", [&] { callbacks.on_counterpart_value(v); });
+      report("on_counterpart_value", [this, v] { callbacks.on_counterpart_value(v); });
     }
     link_lost(itf, "counterpart INTERFACE_STATE UNAVAILABLE");
     return;

@@ -181,7 +181,9 @@ void EquipmentImpl::create_entities() {
   }
   publish_description();
 
-  executor.set_inline_steps(options.inline_steps);
+  // Steps on the thread that brings them unless steps_on_executor
+  // (defer_reports: see the constructor).
+  executor.set_inline_steps(options.inline_steps || !options.steps_on_executor);
   executor.start([this] { return next_wake(); }, [this](SteadyClock::time_point n) { on_wake(n); });
   start_heartbeats();
   // Pairing callbacks run on the executor like every other callback.

@@ -51,9 +51,12 @@ class Recorder {
                   std::chrono::milliseconds timeout = kTimeout) {
     return wait([&] { return h.state() == s; }, timeout);
   }
+  // Until the link is `s` and its on_link said so: by default callbacks run
+  // after the step that the snapshot (link_state) already shows, and a
+  // test that reads links() next must find the event there.
   bool wait_link(const Equipment& e, const std::string& itf, LinkState s,
                  std::chrono::milliseconds timeout = kTimeout) {
-    return wait([&] { return e.link_state(itf) == s; }, timeout);
+    return wait([&] { return e.link_state(itf) == s && last_link_locked(itf) == s; }, timeout);
   }
   std::vector<TransitionEvent> transitions() {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -107,6 +110,13 @@ class Recorder {
       return std::any_of(transitions_.begin(), transitions_.end(), match);
     });
   }
+  // Waits until `done` accepts the values seen so far (called under the
+  // lock: it must not call the Recorder).
+  template <typename Done>
+  bool wait_values(Done done, std::chrono::milliseconds timeout = kTimeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, timeout, [&] { return done(values_); });
+  }
   bool saw_notice(core::Notice n, core::Reason r) {
     std::lock_guard<std::mutex> lock(mutex_);
     return saw_notice_locked(n, r);
@@ -117,6 +127,12 @@ class Recorder {
   }
 
  private:
+  LinkState last_link_locked(const std::string& itf) const {
+    for (auto l = links_.rbegin(); l != links_.rend(); ++l) {
+      if (l->interface_id == itf) return l->current;
+    }
+    return LinkState::Unpaired;
+  }
   bool saw_notice_locked(core::Notice n, core::Reason r) const {
     return std::any_of(transitions_.begin(), transitions_.end(), [&](const TransitionEvent& e) {
       return e.step.notice == n && e.step.reason == r;

@@ -179,6 +179,11 @@ class Peer {
                                                                       : dds::Middleware::FastDds);
     e.timing.heartbeat = std::chrono::milliseconds(o.heartbeat_ms);
     e.timing.missed_heartbeats = 5;
+    // The hold points freeze this side between a step and what it causes:
+    // they need callbacks that run with the step, not after it (the
+    // default's reports). The survivor, the side under test, keeps the
+    // default.
+    e.steps_on_executor = true;
     return e;
   }
 

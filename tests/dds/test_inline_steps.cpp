@@ -1,11 +1,14 @@
 // EquipmentOptions::inline_steps: values stepped on the middleware's thread
-// and commands on the caller's when the equipment is idle. The handshake and
+// and commands on the caller's when the equipment is idle, callbacks with
+// them; and the default, which steps there too but keeps the callbacks on
+// the executor thread. The handshake and
 // failure behaviour must be exactly that of the executor-only runtime, and
 // callbacks still run one at a time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <string>
@@ -149,6 +152,95 @@ TEST(InlineSteps, Scenario2AndRecoveryBehaveAsWithoutThem) {
   EXPECT_EQ(resp.recover(InteractionState::NotReady).get().current, InteractionState::NotReady);
   EXPECT_EQ(req.recover().get().current, InteractionState::Ready);
   EXPECT_TRUE(cell.robot_rec.wait_state(resp, InteractionState::NotReady));
+}
+
+// The default (neither inline_steps nor steps_on_executor): a value is
+// stepped on the middleware's thread, so the robot answers a request with
+// its ACTIVE while its executor thread is held by a task; yet every callback
+// runs on that executor thread, as with steps_on_executor. Red with
+// steps_on_executor: the ACTIVE waits for the executor.
+TEST(DefaultStepping, StepsOffTheExecutorWhileEveryCallbackRunsOnIt) {
+  std::mutex threads_mutex;
+  std::vector<std::thread::id> callback_threads;  // the robot's callbacks
+  const auto note_thread = [&] {
+    std::lock_guard<std::mutex> lock(threads_mutex);
+    callback_threads.push_back(std::this_thread::get_id());
+  };
+  Recorder cnc_rec;
+  Recorder robot_rec;
+  auto robot_cb = robot_rec.callbacks();
+  robot_cb.on_transition = [&, next = robot_cb.on_transition](const TransitionEvent& e) {
+    note_thread();
+    next(e);
+  };
+  robot_cb.on_counterpart_value = [&,
+                                   next = robot_cb.on_counterpart_value](const ObservedValue& v) {
+    note_thread();
+    next(v);
+  };
+  // A lease far beyond the time the robot's executor is held below, so that
+  // the watchdog keeps its heartbeat. Fast DDS on both sides, whatever the
+  // test middleware: it receives on threads of its own, while Cyclone DDS
+  // delivers within one process on the writer's thread, which owns the
+  // writer's state and so hands the robot's step to the robot's executor.
+  auto long_lease = [](const std::string& uuid) {
+    auto o = options(169, uuid);
+    o.middleware = Middleware::FastDds;
+    o.timing.missed_heartbeats = 30;
+    return o;
+  };
+  Equipment cnc(long_lease("cnc-ds"), cnc_rec.callbacks());
+  Equipment robot(long_lease("robot-ds"), robot_cb);
+  cnc.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"robot-ds", "mh1"}});
+  robot.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"cnc-ds", "mh1"}});
+  auto& req = cnc.add_requester("mh1", Service::MaterialLoad);
+  ResponderCallbacks cb;
+  cb.on_request = [&](Responder& r) {
+    note_thread();
+    r.complete();
+  };
+  robot.add_responder("mh1", Service::MaterialLoad, cb);
+  cnc.start();
+  robot.start();
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  // One handshake first: paired, and the robot's READY names the cnc.
+  ASSERT_EQ(req.request(wait).get().outcome, Outcome::Completed) << cnc_rec.dump();
+  ASSERT_TRUE(cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Ready; }));
+
+  std::promise<std::thread::id> executor;
+  std::promise<void> held;
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  bool opened = false;
+  const auto open = [&] {
+    if (!opened) release.set_value();
+    opened = true;
+  };
+  struct OpenOnExit {  // also when an assertion ends the test early
+    explicit OpenOnExit(std::function<void()> f) : open(std::move(f)) {}
+    OpenOnExit(const OpenOnExit&) = delete;
+    OpenOnExit& operator=(const OpenOnExit&) = delete;
+    ~OpenOnExit() { open(); }
+    std::function<void()> open;
+  } open_on_exit{open};
+  robot.post([&executor, &held, released] {
+    executor.set_value(std::this_thread::get_id());
+    held.set_value();
+    released.wait();
+  });
+  held.get_future().wait();
+  auto result = req.request(wait);
+  EXPECT_TRUE(cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::Active; }))
+      << "the robot's ACTIVE waited for its executor";
+  EXPECT_NE(result.wait_for(0ms), std::future_status::ready);  // on_request is held too
+  open();
+  ASSERT_EQ(result.wait_for(kTimeout), std::future_status::ready);
+  EXPECT_EQ(result.get().outcome, Outcome::Completed);
+  const auto executor_thread = executor.get_future().get();
+  std::lock_guard<std::mutex> lock(threads_mutex);
+  ASSERT_FALSE(callback_threads.empty());
+  for (const auto t : callback_threads) EXPECT_EQ(t, executor_thread);
 }
 
 }  // namespace

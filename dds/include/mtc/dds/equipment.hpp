@@ -16,13 +16,17 @@
 // it sees.
 //
 // Threading: every application callback runs on this object's single
-// executor thread, in order; DDS listeners only copy and hand off; the core
-// machines and timers (time limits, heartbeat) are touched only on that
-// thread. With EquipmentOptions::inline_steps, a received value or a command
-// that finds the equipment idle is stepped at once on the thread that brought
-// it instead; still one step at a time and in order. Commands (request(),
-// complete(), ...) may be called from any thread, including from callbacks;
-// they return futures that become ready once the executor has applied them.
+// executor thread, in order, and a command's future becomes ready there, after
+// the callbacks of its step. The core machines are stepped one step at a
+// time, in order: a received value or a command that finds the equipment
+// idle at once on the thread that brought it (a DDS receive thread, the
+// caller's), anything else and the timers (time limits, heartbeat checks) on
+// the executor thread; a callback therefore may see snapshots (state(),
+// counterpart_state()) newer than its event. EquipmentOptions::
+// steps_on_executor hands every step to the executor thread as well;
+// inline_steps runs the callbacks too on the thread that stepped. Commands
+// (request(), complete(), ...) may be called from any thread, including
+// from callbacks; they return futures that become ready once applied.
 // Never block on such a future inside a callback (the executor would wait for
 // itself), never destroy the Equipment from its own callback, and keep
 // callbacks short: the heartbeat thread withholds the heartbeat while the
@@ -235,12 +239,20 @@ struct EquipmentOptions {
   // long after the first candidate's announcement before choosing, so that
   // counterparts started together are all candidates (0..60 s).
   std::chrono::milliseconds pairing_settle{500};
-  // false: every DDS event and command is handed to this equipment's
-  // executor thread. true: one that finds the equipment idle is stepped at
-  // once on the thread that brought it (a Fast DDS receive thread, or the
-  // application thread calling a command): a thread hand-off less per
-  // transit (docs/benchmarks.md). Callbacks still run one at a time and in
-  // order, but possibly on those threads: they must not block.
+  // Where the state machines are stepped (docs/benchmarks.md, "Stepping").
+  // By default a received value or a command that finds the equipment idle
+  // is stepped at once on the thread that brought it (a middleware receive
+  // thread, or the application thread calling a command), while every
+  // callback and every command's result still goes to the executor thread,
+  // in order: no thread hand-off in a transit that needs no application
+  // decision (the requester's READY after COMPLETE, say).
+  // steps_on_executor: every DDS event and command is handed to the executor
+  // thread first, one hand-off more per transit (the default before 2026-12).
+  bool steps_on_executor = false;
+  // inline_steps: the callbacks too run at once on the thread that brought
+  // the step, one at a time and in order: the fastest path, but vendor code
+  // then runs on the middleware's threads and must never block there.
+  // Takes precedence over steps_on_executor.
   bool inline_steps = false;
 };
 
