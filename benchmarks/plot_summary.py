@@ -22,14 +22,18 @@ LABELS = {
 }
 
 
+MODES = {"_inline": ", inline steps", "_executor": ", steps on the executor"}
+
+
 def label(name):
-    inline = name.endswith("_inline")
-    if inline:
-        name = name[:-len("_inline")]
+    mode = ""
+    for suffix, text in MODES.items():
+        if name.endswith(suffix):
+            name, mode = name[:-len(suffix)], text
     for prefix, text in LABELS.items():
         if name.startswith(prefix):
             procs = "1 proc" if name.endswith("_1proc") else "2 proc"
-            return "%s, %s%s" % (text, procs, ", inline steps" if inline else "")
+            return "%s, %s%s" % (text, procs, mode)
     return name
 
 

@@ -107,10 +107,11 @@ else
 fi
 
 if [ -x "$bin/mtc-bench-dds-latency" ]; then
-  # Both step modes, in the same rounds and against the same baselines: the
-  # runtime's default (executor) and inline steps (issue 9 section 2).
+  # Every stepping mode, in the same rounds and against the same baselines:
+  # the runtime's default, steps_on_executor and inline_steps (issue 9
+  # section 2).
   dds_args=(--out "$out/dds_latency.json" --samples-out "$out/dds_latency_samples.json"
-    --step-modes both)
+    --step-modes all)
   [ "$quick" = 1 ] && dds_args+=(--samples 100 --warmup 50 --handshakes 30 --rounds 1 --cyclone-seconds 1)
   run_one mtc-bench-dds-latency "$bin/mtc-bench-dds-latency" "${dds_args[@]}" >/dev/null
   if [ -s "$out/dds_latency.json" ]; then

@@ -151,8 +151,9 @@ def required(summary):
                  "raw_fastdds_round_trip_shm_udp_2proc",
                  "mtc_transition_shm_udp_2proc", "mtc_handshake_shm_udp_2proc",
                  "mtc_transition_udp_loopback_2proc", "mtc_handshake_udp_loopback_2proc",
-                 # run.sh measures inline steps too, in the same rounds.
-                 "mtc_transition_shm_udp_2proc_inline", "mtc_handshake_shm_udp_2proc_inline"):
+                 # run.sh measures every stepping mode, in the same rounds.
+                 "mtc_transition_shm_udp_2proc_inline", "mtc_handshake_shm_udp_2proc_inline",
+                 "mtc_handshake_shm_udp_2proc_executor"):
         s = series.get(name) or {}
         checks.append(("dds_latency.series.%s.count" % name, (s.get("count") or 0) > 0))
         checks.append(("dds_latency.series.%s.p999" % name, s.get("p999") is not None))
@@ -163,7 +164,7 @@ def required(summary):
     checks.append(("dds_latency.cyclone.p50",
                    (dds.get("cyclone") or {}).get("p50") is not None))
     checks.append(("dds_latency.ratios", bool(dds.get("ratios"))))
-    for key in ("shm_udp", "shm_udp_inline"):
+    for key in ("shm_udp", "shm_udp_executor", "shm_udp_inline"):
         checks.append(("dds_latency.targets." + key, key in (dds.get("targets") or {})))
     checks.append(("dds_latency.load_average_start", dds.get("load_average_start") is not None))
     for pairs in (1, 10, 100):

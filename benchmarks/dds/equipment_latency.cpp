@@ -48,9 +48,8 @@ std::string device_name(const char* role, int round) {
 }
 constexpr const char* kInterface = "mh";
 
-// EquipmentOptions::inline_steps for both ends (--inline-steps); set once
-// before any series or peer starts.
-bool g_inline_steps = false;
+// How both ends step (set_stepping); set before a series or peer starts.
+Stepping g_stepping = Stepping::Default;
 // The middleware of both ends of the series running now (the peer is told
 // with --cyclone-equipment).
 dds::Middleware g_middleware = dds::Middleware::FastDds;
@@ -63,7 +62,8 @@ dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos
   // Every FAIL (e.g. a false comms-loss alarm on a loaded machine) clears
   // itself, so one bad handshake cannot stall the run; it is counted.
   o.recovery = dds::RecoveryPolicy::Always;
-  o.inline_steps = g_inline_steps;
+  o.inline_steps = g_stepping == Stepping::Inline;
+  o.steps_on_executor = g_stepping == Stepping::Executor;
   o.middleware = g_middleware;
   return o;
 }
@@ -263,9 +263,8 @@ pid_t spawn_peer(int domain, qos::Transport t, int round) {
                                    std::to_string(domain),
                                    "--round",
                                    std::to_string(round)};
-  if (g_inline_steps) {
-    args.emplace_back("--inline-steps");
-  }
+  if (g_stepping == Stepping::Inline) args.emplace_back("--inline-steps");
+  if (g_stepping == Stepping::Executor) args.emplace_back("--steps-on-executor");
   if (g_middleware == dds::Middleware::Cyclone) {
     args.emplace_back("--cyclone-equipment");
   }
@@ -294,12 +293,12 @@ PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, 
     stop_peer(peer);
   }
   const std::string suffix = "_" + transport_name(t) + "_" + std::to_string(processes) + "proc" +
-                             (g_inline_steps ? "_inline" : "");
+                             series_suffix(g_stepping);
   for (Series* s : {&run.transition, &run.handshake}) {
     s->layer = "mtc_equipment";
     s->transport = transport_name(t);
     s->processes = processes;
-    s->inline_steps = g_inline_steps;
+    s->stepping = to_string(g_stepping);
   }
   run.transition.metric = "transition";
   run.transition.name = "mtc_transition" + suffix;
@@ -310,8 +309,32 @@ PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, 
 
 }  // namespace
 
-void set_inline_steps(bool on) {
-  g_inline_steps = on;
+const char* series_suffix(Stepping s) {
+  switch (s) {
+    case Stepping::Executor:
+      return "_executor";
+    case Stepping::Inline:
+      return "_inline";
+    case Stepping::Default:
+      break;
+  }
+  return "";
+}
+
+const char* to_string(Stepping s) {
+  switch (s) {
+    case Stepping::Executor:
+      return "executor";
+    case Stepping::Inline:
+      return "inline";
+    case Stepping::Default:
+      break;
+  }
+  return "default";
+}
+
+void set_stepping(Stepping s) {
+  g_stepping = s;
 }
 
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options) {

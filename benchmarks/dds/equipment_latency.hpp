@@ -20,14 +20,25 @@ struct EquipmentBenchOptions {
   int round = 1;  // part of the devices' names: a new pair per round
 };
 
-// The inline pass of a run that measures both step modes names its devices
-// by round + this, so that no pair meets an earlier pair's names.
-inline constexpr int kInlineRoundOffset = 500;
+// Where both ends step their machines (EquipmentOptions): the runtime's
+// default (on the thread that brings a value, callbacks on the executor
+// thread), steps_on_executor, or inline_steps.
+enum class Stepping { Default, Executor, Inline };
+// A series' name suffix and JSON value: "", "_executor", "_inline";
+// "default", "executor", "inline".
+const char* series_suffix(Stepping s);
+const char* to_string(Stepping s);
+// A run measuring several modes names the devices of a mode's pass by
+// round + this, so that no pair meets an earlier pair's names: at most
+// kModeRoundOffset rounds then.
+inline constexpr int kModeRoundOffset = 250;
+inline int mode_round(Stepping s, int round) {
+  return round + kModeRoundOffset * static_cast<int>(s);
+}
 
-// Both ends of every series with EquipmentOptions::inline_steps (default
-// off: the runtime's default); call before the series or the peer run. The
-// series of an inline run carry "_inline" after their names.
-void set_inline_steps(bool on);
+// Both ends of every series from now on (default: Stepping::Default); call
+// before the series or the peer run.
+void set_stepping(Stepping s);
 
 // The handshake series of the runtime (mtc::dds), one per transport.
 std::vector<Series> run_equipment_series(const EquipmentBenchOptions& options);

@@ -13,12 +13,12 @@ namespace mtc::bench {
 
 // One measured series: what was timed, over which path, and the samples.
 struct Series {
-  std::string name;           // e.g. "raw_fastdds_round_trip"
-  std::string layer;          // "raw_fastdds" or "mtc_equipment"
-  std::string metric;         // "round_trip", "transition", "handshake"
-  std::string transport;      // "udp_loopback" or "shm_udp"
-  int processes = 1;          // 1: both ends in this process; 2: forked peer
-  bool inline_steps = false;  // equipment series: EquipmentOptions::inline_steps
+  std::string name;            // e.g. "raw_fastdds_round_trip"
+  std::string layer;           // "raw_fastdds" or "mtc_equipment"
+  std::string metric;          // "round_trip", "transition", "handshake"
+  std::string transport;       // "udp_loopback" or "shm_udp"
+  int processes = 1;           // 1: both ends in this process; 2: forked peer
+  std::string stepping = "-";  // equipment series: default, executor or inline
   std::vector<double> samples_us;
   std::size_t timeouts = 0;  // iterations that got no answer in time
   // CPU time (user + system) of every process taking part, per timed
@@ -68,13 +68,13 @@ inline std::string to_json(const Series& series) {
   char buf[768];
   std::snprintf(buf, sizeof buf,
                 "{\"name\":\"%s\",\"layer\":\"%s\",\"metric\":\"%s\",\"transport\":\"%s\","
-                "\"processes\":%d,\"inline_steps\":%s,\"unit\":\"us\",\"count\":%zu,"
+                "\"processes\":%d,\"stepping\":\"%s\",\"unit\":\"us\",\"count\":%zu,"
                 "\"timeouts\":%zu,"
                 "\"min\":%.1f,\"mean\":%.1f,\"p50\":%.1f,\"p90\":%.1f,\"p99\":%.1f,"
                 "\"p999\":%.1f,\"max\":%.1f,\"cpu_us_per_op\":%s}",
                 series.name.c_str(), series.layer.c_str(), series.metric.c_str(),
-                series.transport.c_str(), series.processes, series.inline_steps ? "true" : "false",
-                s.count, series.timeouts, s.min, s.mean, s.p50, s.p90, s.p99, s.p999, s.max, cpu);
+                series.transport.c_str(), series.processes, series.stepping.c_str(), s.count,
+                series.timeouts, s.min, s.mean, s.p50, s.p90, s.p99, s.p999, s.max, cpu);
   return buf;
 }
 

@@ -44,8 +44,9 @@ struct Options {
   std::string samples_out;
   bool raw = true;
   bool equipment = true;
-  bool inline_steps = false;       // --inline-steps, or --step-modes inline
-  bool both_step_modes = false;    // --step-modes both
+  // The equipment series' stepping modes, each a pass of every round
+  // (--step-modes, --inline-steps, --steps-on-executor).
+  std::vector<mtc::bench::Stepping> modes{mtc::bench::Stepping::Default};
   bool peer = false;               // internal: this process is the forked ponger
   bool equipment_peer = false;     // internal: the forked responder equipment
   bool cyclone_equipment = false;  // internal: that equipment runs on Cyclone DDS
@@ -76,21 +77,49 @@ constexpr const char* kAbout =
     "   \"cyclone\":{...},\"ratios\":[...],\"targets\":{...}}\n"
     "(benchmarks/run.sh: bench-results/dds_latency.json, plotted to dds_latency.png).";
 
-// --step-modes: false when "both" has more rounds than device names allow.
-bool apply_step_modes(const std::string& modes, Options& o) {
-  if (modes == "inline") o.inline_steps = true;
-  o.both_step_modes = modes == "both";
-  return !o.both_step_modes || o.rounds <= mtc::bench::kInlineRoundOffset;
+// --step-modes and the single-mode flags: false when several modes have
+// more rounds than device names allow.
+bool apply_step_modes(const std::string& modes, bool inline_steps, bool on_executor, Options& o) {
+  using mtc::bench::Stepping;
+  if (modes == "all") {
+    o.modes = {Stepping::Default, Stepping::Executor, Stepping::Inline};
+  } else if (modes == "both") {
+    o.modes = {Stepping::Default, Stepping::Inline};
+  } else if (modes == "inline" || inline_steps) {
+    o.modes = {Stepping::Inline};
+  } else if (modes == "executor" || on_executor) {
+    o.modes = {Stepping::Executor};
+  }
+  return o.modes.size() == 1 || o.rounds <= mtc::bench::kModeRoundOffset;
+}
+
+mtc::bench::Cli& stepping_options(mtc::bench::Cli& cli, std::string& step_modes, bool& inline_steps,
+                                  bool& on_executor) {
+  return cli
+      .flag("--inline-steps", inline_steps,
+            "the equipment series with EquipmentOptions::inline_steps\n(both ends), as "
+            "--step-modes inline")
+      .flag("--steps-on-executor", on_executor,
+            "the equipment series with EquipmentOptions::\nsteps_on_executor (both ends), as "
+            "--step-modes executor")
+      .choice("--step-modes", step_modes, {"default", "executor", "inline", "both", "all"},
+              "the equipment series with the runtime's default\nstepping, steps_on_executor, "
+              "inline_steps, both\n(default and inline) or all three, one after the\nother in "
+              "every round; their series end in \"\",\n\"_executor\", \"_inline\" (default "
+              "default)");
 }
 
 // Usage errors -> exit code; nullopt to run.
 std::optional<int> parse_args(int argc, char** argv, Options& o) {
   std::string only;
   std::string step_modes;
+  bool inline_steps = false;
+  bool on_executor = false;
   std::string transport = mtc::bench::to_string(o.transport);
   mtc::bench::Cli cli("mtc-bench-dds-latency", kAbout);
-  cli.integer("--samples", o.samples, 1, 10000000,
-              "raw round trips per series, split over the rounds")
+  stepping_options(cli, step_modes, inline_steps, on_executor)
+      .integer("--samples", o.samples, 1, 10000000,
+               "raw round trips per series, split over the rounds")
       .integer("--warmup", o.warmup, 0, 10000000,
                "untimed round trips before each raw series in\nevery round")
       .integer("--handshakes", o.handshakes, 1, 10000000,
@@ -100,13 +129,6 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
                "seconds of ddsperf ping, plus 2 for its start-up\n(0: no Cyclone baseline)")
       .choice("--only", only, {"raw", "equipment"}, "measure only these series (default both)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE (default stdout only)")
-      .flag("--inline-steps", o.inline_steps,
-            "the equipment series with EquipmentOptions::inline_steps\n(both ends; default: off, "
-            "as the runtime)")
-      .choice("--step-modes", step_modes, {"executor", "inline", "both"},
-              "the equipment series with the executor (the\nruntime's default), inline steps, or "
-              "both, one\nafter the other in every round; inline series\nend in \"_inline\" "
-              "(default executor)")
       .text("--samples-out", "FILE", o.samples_out,
             "write every series' samples, sorted, to FILE as\n{\"name\":[us,...],...} (for CDF "
             "plots)")
@@ -129,9 +151,9 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   if (const auto exit_code = cli.parse(argc, argv)) {
     return exit_code;
   }
-  if (!apply_step_modes(step_modes, o)) {
-    return cli.usage_error("--step-modes both: at most " +
-                           std::to_string(mtc::bench::kInlineRoundOffset) + " rounds");
+  if (!apply_step_modes(step_modes, inline_steps, on_executor, o)) {
+    return cli.usage_error("--step-modes " + step_modes + ": at most " +
+                           std::to_string(mtc::bench::kModeRoundOffset) + " rounds");
   }
   if (!only.empty()) {
     o.raw = only == "raw";
@@ -162,6 +184,14 @@ std::string load_json(const std::array<double, 3>& load) {
   return json.str();
 }
 
+std::string modes_json(const std::vector<mtc::bench::Stepping>& modes) {
+  std::string json = "[";
+  for (const auto mode : modes) {
+    json.append(json.size() > 1 ? ",\"" : "\"").append(mtc::bench::to_string(mode)).append("\"");
+  }
+  return json + "]";
+}
+
 struct RunContext {
   std::array<double, 3> load_start{};
   std::array<double, 3> load_end{};
@@ -179,10 +209,8 @@ std::string to_json(const Options& o, const std::vector<Series>& all, const RunC
   std::ostringstream json;
   json << "{\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"cores\":"
        << std::thread::hardware_concurrency() << ",\"samples\":" << o.samples
-       << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds << ",\"inline_steps\":"
-       << (o.both_step_modes ? "\"both\""
-           : o.inline_steps  ? "true"
-                             : "false")
+       << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds
+       << ",\"stepping\":" << modes_json(o.modes)
        << ",\"load_average_start\":" << load_json(run.load_start)
        << ",\"load_average_end\":" << load_json(run.load_end)
        << ",\"cpu_note\":\"cpu_us_per_op: user+system CPU of every process taking part "
@@ -217,16 +245,12 @@ std::vector<Series> run_round(const Options& o, int round_number) {
     eo.first_domain_id = 104;  // 104-106
     eo.round = round_number;
     eo.handshakes = std::max(1, o.handshakes / o.rounds);
-    for (auto& s : mtc::bench::run_equipment_series(eo)) {
-      round.push_back(std::move(s));
-    }
-    if (o.both_step_modes) {
-      mtc::bench::set_inline_steps(true);
-      eo.round += mtc::bench::kInlineRoundOffset;
+    for (const auto mode : o.modes) {
+      mtc::bench::set_stepping(mode);
+      eo.round = mtc::bench::mode_round(mode, round_number);
       for (auto& s : mtc::bench::run_equipment_series(eo)) {
         round.push_back(std::move(s));
       }
-      mtc::bench::set_inline_steps(false);
     }
   }
   return round;
@@ -310,7 +334,7 @@ int main(int argc, char** argv) {
   if (const auto exit_code = parse_args(argc, argv, o)) {
     return *exit_code;
   }
-  mtc::bench::set_inline_steps(o.inline_steps);
+  mtc::bench::set_stepping(o.modes.front());  // the peers get one mode each
   try {
     if (o.both_ends) {
       return mtc::bench::print_both_ends(raw_options(o), o.transport, o.domain);

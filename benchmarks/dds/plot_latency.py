@@ -23,8 +23,9 @@ def label(series):
     }.get(series.get("metric", ""), series.get("name", "?"))
     transport = {"udp_loopback": "UDP", "shm_udp": "SHM+UDP"}.get(
         series.get("transport", ""), series.get("transport", ""))
-    inline = ", inline" if series.get("inline_steps") is True else ""
-    return "%s\\n%s, %s proc%s" % (metric, transport, series.get("processes", "?"), inline)
+    stepping = series.get("stepping", "-")
+    mode = ", " + stepping if stepping in ("inline", "executor") else ""
+    return "%s\\n%s, %s proc%s" % (metric, transport, series.get("processes", "?"), mode)
 
 
 ORDER = {"round_trip": 0, "transition": 1, "handshake": 2}

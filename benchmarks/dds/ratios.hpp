@@ -122,14 +122,15 @@ inline std::string transport_target_json(const std::string& key, const Reference
 
 // Issue 9 section 2, two processes, per transport: transition p50 <= 1.15x
 // half the listener round trip; handshake p50 <= 2.3x and p99 <= 3x it. And
-// section 3's Cyclone target, when that series ran. Per step mode that ran:
-// "shm_udp" is the runtime's default, "shm_udp_inline" inline steps.
+// section 3's Cyclone target, when that series ran. Per stepping mode that
+// ran: "shm_udp" is the runtime's default, "shm_udp_executor" with
+// steps_on_executor, "shm_udp_inline" with inline_steps.
 inline std::string targets_json(const std::vector<Series>& all,
                                 const std::optional<Reference>& cyclone) {
   std::ostringstream json;
   json << "{";
   bool first = true;
-  for (const std::string mode : {"", "_inline"}) {
+  for (const std::string mode : {"", "_executor", "_inline"}) {
     for (const std::string transport : {"shm_udp", "udp_loopback"}) {
       const auto listener = reference(all, listener_name(transport));
       const auto transition = reference(all, two_process_series("transition", transport, mode));
