@@ -44,8 +44,14 @@ void guarded(Fn&& fn) {
 void Executor::start(NextWake next_wake, OnWake on_wake) {
   next_wake_ = std::move(next_wake);
   on_wake_ = std::move(on_wake);
+  // The first wake-up instant is read here, while nothing else can own the
+  // state (no executor thread yet, no inline step before started_): had the
+  // new thread read it, a dispatch right after start() would find the state
+  // busy for no reason and queue a step it could have run (seen under TSan).
+  const auto first_wake = next_wake_ ? next_wake_() : Clock::time_point::max();
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    wake_at_ = first_wake;
     started_ = true;
   }
   thread_ = std::thread([this] {
@@ -222,14 +228,6 @@ Executor::Clock::time_point Executor::await_work(std::unique_lock<std::mutex>& l
 }
 
 void Executor::run() {
-  {
-    std::unique_lock<std::mutex> lock(mutex_);
-    sleeping_on_state_ = true;
-    cv_.wait(lock, [this] { return !busy_; });
-    sleeping_on_state_ = false;
-    busy_ = true;
-  }
-  release();  // the first wake-up instant
   std::deque<Task> batch;
   for (;;) {
     Clock::time_point wake;
