@@ -116,18 +116,23 @@ void Executor::enqueue_locked(Task task) {
 void Executor::dispatch(Task task) {
   bool step_here = false;
   bool notify = false;
+  std::deque<Task> queued;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (stopping_) {
       return;
     }
-    // Queued tasks go first (posting order), and the executor thread must
-    // exist to pick up what this step leaves behind.
-    step_here = inline_steps_ && started_ && !busy_ && tasks_.empty() &&
-                (t_states_owned == 0 || !steps_write_);
+    // The executor thread must exist to pick up what this step leaves behind.
+    step_here = inline_steps_ && started_ && !busy_ && (t_states_owned == 0 || !steps_write_);
     if (step_here) {
       busy_ = true;
-      owed_since_ = Clock::now();
+      if (owed_since_ == Clock::time_point{}) owed_since_ = Clock::now();
+      // Queued tasks go first (posting order), here: left to the executor
+      // thread, they and every step behind them would wait for whatever it
+      // runs meanwhile, a report such as an application callback that blocks
+      // (seen under TSan: a status queued while the robot's on_request was
+      // held kept its ACTIVE back until the heartbeat was withheld).
+      queued.swap(tasks_);
     } else {
       enqueue_locked(std::move(task));
       notify = !busy_;  // as in post()
@@ -140,6 +145,9 @@ void Executor::dispatch(Task task) {
   {
     std::optional<OwningAState> owning;
     if (steps_write_) owning.emplace();
+    for (auto& earlier : queued) {
+      guarded(earlier);
+    }
     guarded(task);
     drain_while_owner();
   }

@@ -40,11 +40,12 @@ class Executor {
     steps_write_ = steps_write;
   }
   void start(NextWake next_wake, OnWake on_wake);
-  // Thread-safe; tasks run in posting order, on the executor thread. Ignored
-  // after stop().
+  // Thread-safe; tasks run in posting order, on the executor thread, or,
+  // with inline steps on, on the thread of a later dispatch() that finds the
+  // state idle. Ignored after stop().
   void post(Task task);
   // Like post(), but with inline steps on, a task that finds the state idle
-  // (nothing queued, nothing running) runs now on the calling thread.
+  // (no task running) runs now on the calling thread, after those queued.
   void dispatch(Task task);
   // A report (an application callback, a command's result): runs on the
   // executor thread, reports in posting order, but without owning the state,

@@ -102,6 +102,33 @@ TEST(Executor, WhatAnInlineStepQueuesRunsBeforeItLetsGo) {
   EXPECT_EQ(nested_ran_on, std::this_thread::get_id());
 }
 
+// A task queued while the executor thread runs a report (an application
+// callback that takes its time) does not hold back the steps behind it: the
+// next dispatch that finds the state idle runs it first, then its own step.
+TEST(Executor, AQueuedTaskIsRunByTheNextInlineStepNotLeftBehindAReport) {
+  std::promise<void> in_report;
+  std::promise<void> hold;
+  std::shared_future<void> held = hold.get_future().share();
+  std::vector<int> order;
+  std::thread::id queued_ran_on;
+  Executor ex;  // after what its tasks touch: destroyed (and joined) first
+  ex.set_inline_steps(true);
+  start_without_timers(ex);
+  ex.post_report([&in_report, held] {
+    in_report.set_value();
+    held.wait();
+  });
+  in_report.get_future().wait();
+  ex.post([&] {
+    queued_ran_on = std::this_thread::get_id();
+    order.push_back(1);
+  });
+  ex.dispatch([&] { order.push_back(2); });
+  EXPECT_EQ(order, (std::vector<int>{1, 2}));  // both done when dispatch returned
+  EXPECT_EQ(queued_ran_on, std::this_thread::get_id());
+  hold.set_value();
+}
+
 // A task queued by the executor thread's own task wakes nobody (the thread
 // is awake) and still runs: the loop finds it after the batch.
 TEST(Executor, WhatATaskPostsRunsAfterIt) {
