@@ -309,16 +309,8 @@ PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, 
 
 }  // namespace
 
-const char* series_suffix(Stepping s) {
-  switch (s) {
-    case Stepping::Executor:
-      return "_executor";
-    case Stepping::Inline:
-      return "_inline";
-    case Stepping::Default:
-      break;
-  }
-  return "";
+std::string series_suffix(Stepping s) {
+  return s == Stepping::Default ? std::string() : std::string("_") + to_string(s);
 }
 
 const char* to_string(Stepping s) {

@@ -5,6 +5,7 @@
 //   (the 8 steps of Part 5 Table 1).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "latency_stats.hpp"
@@ -26,7 +27,7 @@ struct EquipmentBenchOptions {
 enum class Stepping { Default, Executor, Inline };
 // A series' name suffix and JSON value: "", "_executor", "_inline";
 // "default", "executor", "inline".
-const char* series_suffix(Stepping s);
+std::string series_suffix(Stepping s);
 const char* to_string(Stepping s);
 // A run measuring several modes names the devices of a mode's pass by
 // round + this, so that no pair meets an earlier pair's names: at most
