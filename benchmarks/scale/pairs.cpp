@@ -14,6 +14,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
+bool g_steps_on_executor = false;  // set once by main, before any thread
+
 // Completes every request at once. The runtime may hand a request to
 // on_request before start() has returned (the executor runs while start()
 // still creates entities; a command then throws "call start() first"):
@@ -69,7 +71,16 @@ mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain
   o.device_uuid = uuid;
   o.transport = mtc::qos::Transport::Loopback;
   o.recovery = mtc::dds::RecoveryPolicy::Always;  // a false alarm must not stall a pair
+  o.steps_on_executor = g_steps_on_executor;
   return o;
+}
+
+void set_steps_on_executor(bool on) {
+  g_steps_on_executor = on;
+}
+
+bool steps_on_executor() {
+  return g_steps_on_executor;
 }
 
 mtc::dds::EquipmentCallbacks quiet_callbacks() {
@@ -114,9 +125,10 @@ int run_peer(int devices, int interfaces, int domain) {
 }
 
 pid_t spawn_peer(int devices, int interfaces, int domain) {
-  return exec_self("mtc-bench-scale",
-                   {"--peer", "--devices", std::to_string(devices), "--interfaces",
-                    std::to_string(interfaces), "--domain", std::to_string(domain)});
+  std::vector<std::string> args{"--peer", "--devices", std::to_string(devices), "--interfaces",
+                                std::to_string(interfaces), "--domain", std::to_string(domain)};
+  if (g_steps_on_executor) args.emplace_back("--steps-on-executor");
+  return exec_self("mtc-bench-scale", args);
 }
 
 void stop_peer(pid_t pid) {

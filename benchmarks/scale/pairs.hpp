@@ -19,8 +19,12 @@ std::string device(const char* role, int index);
 std::string interface_id(int index);
 
 // On `domain`, loopback only, recovering from every FAIL (a false alarm must
-// not stall a pair).
+// not stall a pair); steps as set_steps_on_executor() said.
 mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain);
+// Both processes' EquipmentOptions::steps_on_executor (default false: the
+// runtime's default); the peer is started with the same.
+void set_steps_on_executor(bool on);
+bool steps_on_executor();
 // Quiet about the filtered false-loss notes, loud about anything else.
 mtc::dds::EquipmentCallbacks quiet_callbacks();
 // `interfaces` material-handler interfaces, each paired with the same id on `peer_device`.

@@ -58,6 +58,7 @@ struct Options {
   int startup_domain = 115;
   std::string out;
   int paced = 0;      // handshakes/s offered in total by the paced series; 0: none
+  bool steps_on_executor = false;
   bool peer = false;  // internal: be the responder process
   int devices = 1;    // internal: responder devices in the peer
   int interfaces = 1;
@@ -87,6 +88,8 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .integer("--startup-domain", o.startup_domain, 0, 232, "DDS domain of the start-up")
       .integer("--paced", o.paced, 0, 1000000,
                "handshakes/s offered in total after each closed loop (0: none)")
+      .flag("--steps-on-executor", o.steps_on_executor,
+            "both processes step on the executor thread (EquipmentOptions::steps_on_executor)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE")
       .internal_options_follow()
       .flag("--peer", o.peer, "be the responder process")
@@ -387,7 +390,8 @@ int run(const Options& o) {
   }
   std::ostringstream json;
   json << "{\"benchmark\":\"scale\",\"cores\":" << std::thread::hardware_concurrency()
-       << ",\"unit\":\"us\",\"transport\":\"shm_udp\",\"load_average_start\":"
+       << ",\"unit\":\"us\",\"transport\":\"shm_udp\",\"stepping\":\""
+       << (o.steps_on_executor ? "executor" : "default") << "\",\"load_average_start\":"
        << load_json(load_start) << ",\"load_average_end\":" << load_json(mtc::bench::load_average())
        << ",\"latency\":\"request() to its outcome, issued as soon as the previous handshake "
           "of the pair completed\",\"paced_latency\":\"scheduled instant to the outcome "
@@ -427,6 +431,7 @@ int main(int argc, char** argv) {
   if (const auto exit_code = scale::parse_args(argc, argv, o)) {
     return *exit_code;
   }
+  scale::set_steps_on_executor(o.steps_on_executor);
   try {
     return o.peer ? scale::run_peer(o.devices, o.interfaces, o.domain) : scale::run(o);
   } catch (const std::exception& e) {
