@@ -125,8 +125,13 @@ int run_peer(int devices, int interfaces, int domain) {
 }
 
 pid_t spawn_peer(int devices, int interfaces, int domain) {
-  std::vector<std::string> args{"--peer", "--devices", std::to_string(devices), "--interfaces",
-                                std::to_string(interfaces), "--domain", std::to_string(domain)};
+  std::vector<std::string> args{"--peer",
+                                "--devices",
+                                std::to_string(devices),
+                                "--interfaces",
+                                std::to_string(interfaces),
+                                "--domain",
+                                std::to_string(domain)};
   if (g_steps_on_executor) args.emplace_back("--steps-on-executor");
   return exec_self("mtc-bench-scale", args);
 }

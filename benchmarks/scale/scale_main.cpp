@@ -57,7 +57,7 @@ struct Options {
   int domain = 109;
   int startup_domain = 115;
   std::string out;
-  int paced = 0;      // handshakes/s offered in total by the paced series; 0: none
+  int paced = 0;  // handshakes/s offered in total by the paced series; 0: none
   bool steps_on_executor = false;
   bool peer = false;  // internal: be the responder process
   int devices = 1;    // internal: responder devices in the peer
@@ -391,8 +391,9 @@ int run(const Options& o) {
   std::ostringstream json;
   json << "{\"benchmark\":\"scale\",\"cores\":" << std::thread::hardware_concurrency()
        << ",\"unit\":\"us\",\"transport\":\"shm_udp\",\"stepping\":\""
-       << (o.steps_on_executor ? "executor" : "default") << "\",\"load_average_start\":"
-       << load_json(load_start) << ",\"load_average_end\":" << load_json(mtc::bench::load_average())
+       << (o.steps_on_executor ? "executor" : "default")
+       << "\",\"load_average_start\":" << load_json(load_start)
+       << ",\"load_average_end\":" << load_json(mtc::bench::load_average())
        << ",\"latency\":\"request() to its outcome, issued as soon as the previous handshake "
           "of the pair completed\",\"paced_latency\":\"scheduled instant to the outcome "
           "(the issue's delay plus request() to outcome)\",\"levels\":[";
