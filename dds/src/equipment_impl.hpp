@@ -360,15 +360,10 @@ struct EquipmentImpl {
   // needs, as it may run after the step.
   template <typename Fn>
   void report(const char* what, Fn fn) {
-    if (defer_reports) {
-      executor.post_report(
-          [this, what, fn = std::move(fn)]() mutable { guard_callback(what, fn); });
-    } else {
-      guard_callback(what, fn);
-    }
+    settle([this, what, fn = std::move(fn)]() mutable { guard_callback(what, fn); });
   }
   // A command's future made ready (`settle` sets it), after its step's
-  // callbacks.
+  // callbacks; where every report goes.
   template <typename Fn>
   void settle(Fn settle) {
     if (defer_reports) {
