@@ -79,10 +79,6 @@ void set_steps_on_executor(bool on) {
   g_steps_on_executor = on;
 }
 
-bool steps_on_executor() {
-  return g_steps_on_executor;
-}
-
 mtc::dds::EquipmentCallbacks quiet_callbacks() {
   mtc::dds::EquipmentCallbacks cb;
   cb.on_diagnostic = [](const std::string& text) {

@@ -24,7 +24,6 @@ mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain
 // Both processes' EquipmentOptions::steps_on_executor (default false: the
 // runtime's default); the peer is started with the same.
 void set_steps_on_executor(bool on);
-bool steps_on_executor();
 // Quiet about the filtered false-loss notes, loud about anything else.
 mtc::dds::EquipmentCallbacks quiet_callbacks();
 // `interfaces` material-handler interfaces, each paired with the same id on `peer_device`.
