@@ -1,6 +1,8 @@
 // multipart/x-mixed-replace streams: parts follow the data, respect the
 // interval, heartbeat when idle, and end cleanly on either side.
+#include <cstdint>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "server_fixture.hpp"
@@ -22,6 +24,15 @@ std::vector<std::string> values_of(const Part& part, const char* item) {
 
 std::size_t event_count(const Part& part) {
   return parse_xml(part.body).select_nodes("//Event").size();
+}
+
+std::vector<std::uint64_t> sequences_of(const Part& part) {
+  std::vector<std::uint64_t> sequences;
+  const auto doc = parse_xml(part.body);
+  for (const auto& node : doc.select_nodes("//Event")) {
+    sequences.push_back(node.node().attribute("sequence").as_ullong());
+  }
+  return sequences;
 }
 
 class StreamTest : public ServerTest {
@@ -204,6 +215,90 @@ TEST_F(StreamTest, StalledStreamReaderIsDroppedAfterTheWriteTimeout) {
   }
   EXPECT_TRUE(dropped || eventually([&] { return server_->connection_count() == 0; }, 5s));
   EXPECT_EQ(get("/probe").status, 200);
+}
+
+// ServerOptions::direct_stream_writes: with few streams, the thread that
+// feeds the agent writes an idle stream's part itself.
+TEST_F(StreamTest, AnIdleStreamsPartIsWrittenByTheFeedingThread) {
+  auto client = open("/sample?interval=0&heartbeat=10000");
+  ASSERT_TRUE(client->read_part());
+  // Until the io thread has finished with the first part, the stream is
+  // busy and a value goes through it: feed until one goes directly.
+  for (int i = 0; i < 100 && server_->direct_stream_parts() == 0; ++i) {
+    agent_->add("n", std::to_string(i));
+    const auto part = client->read_part(5s);
+    ASSERT_TRUE(part);
+    EXPECT_EQ(values_of(*part, "n"), std::vector<std::string>{std::to_string(i)});
+  }
+  EXPECT_GT(server_->direct_stream_parts(), 0U);
+}
+
+TEST_F(StreamTest, BeyondTheDirectLimitEveryPartGoesThroughTheIoThreads) {
+  auto options = test_options();
+  options.direct_stream_writes = 1;
+  restart(options);
+  auto first = open("/sample?interval=0&heartbeat=10000");
+  auto second = open("/sample?interval=0&heartbeat=10000");
+  ASSERT_TRUE(first->read_part());
+  ASSERT_TRUE(second->read_part());
+  for (int i = 0; i < 20; ++i) {
+    agent_->add("n", std::to_string(i));
+    for (auto* client : {first.get(), second.get()}) {
+      const auto part = client->read_part(5s);
+      ASSERT_TRUE(part);
+      EXPECT_EQ(values_of(*part, "n"), std::vector<std::string>{std::to_string(i)});
+    }
+  }
+  EXPECT_EQ(server_->direct_stream_parts(), 0U);
+}
+
+// Two threads feed the agent at once while three streams run: whichever
+// thread writes a part (a feeder directly, or an io thread), every client
+// sees every observation once, in sequence order.
+TEST_F(StreamTest, ConcurrentFeedersLoseAndRepeatNothing) {
+  constexpr std::uint64_t kPerFeeder = 300;
+  std::vector<std::unique_ptr<RawClient>> clients;
+  for (int i = 0; i < 3; ++i) {
+    clients.push_back(open("/sample?interval=0&heartbeat=10000"));
+    ASSERT_TRUE(clients.back()->read_part());
+  }
+  const std::uint64_t first = agent_->add("start", "0");
+  std::vector<std::thread> feeders;
+  for (const char* item : {"a", "b"}) {
+    feeders.emplace_back([this, item] {
+      for (std::uint64_t i = 0; i < kPerFeeder; ++i) agent_->add(item, std::to_string(i));
+    });
+  }
+  for (auto& feeder : feeders) feeder.join();
+  for (auto& client : clients) {
+    std::uint64_t expected = first;
+    while (expected < first + 1 + 2 * kPerFeeder) {
+      const auto part = client->read_part(5s);
+      ASSERT_TRUE(part) << "stopped at sequence " << expected;
+      for (const auto sequence : sequences_of(*part)) {
+        ASSERT_EQ(sequence, expected);
+        ++expected;
+      }
+    }
+  }
+}
+
+// A part larger than the socket takes at once: the feeding thread writes
+// what fits and the io thread the rest, under the write timeout.
+TEST_F(StreamTest, ALargePartStartedDirectlyArrivesWhole) {
+  auto client = open("/sample?interval=0&heartbeat=10000");
+  ASSERT_TRUE(client->read_part());
+  for (int i = 0; i < 6; ++i) {
+    const std::string big(std::size_t{4} << 20, static_cast<char>('a' + i));
+    agent_->add("blob", big);
+    std::vector<std::string> seen;
+    while (seen.empty() || seen.back() != big) {
+      const auto part = client->read_part(10s);
+      ASSERT_TRUE(part) << "blob " << i;
+      for (auto& value : values_of(*part, "blob")) seen.push_back(std::move(value));
+    }
+  }
+  EXPECT_GT(server_->direct_stream_parts(), 0U);
 }
 
 }  // namespace

@@ -262,6 +262,10 @@ std::size_t HttpServer::pending_bytes() const noexcept {
   return impl_->shared->pending_bytes.load();
 }
 
+std::uint64_t HttpServer::direct_stream_parts() const noexcept {
+  return impl_->shared->direct_parts.load();
+}
+
 std::size_t HttpServer::connection_count() const noexcept {
   std::lock_guard<std::mutex> lock(impl_->shared->mutex);
   return impl_->shared->sessions.size();

@@ -9,6 +9,7 @@
 #include <boost/asio/write.hpp>
 #include <boost/beast/http/error.hpp>
 #include <boost/beast/http/read.hpp>
+#include <mutex>
 #include <utility>
 
 #include "session_stream.hpp"
@@ -82,6 +83,7 @@ Session::~Session() {
   if (stream_state_ && stream_state_->subscribed) {
     shared_->agent->unsubscribe(stream_state_->subscription);
   }
+  stop_counting_stream();
   release_pending();
   if (id_ == 0) {  // a connection answered 503 (HttpServer::Impl::on_accept)
     --shared_->rejecting;
@@ -112,7 +114,15 @@ void Session::release_pending() {
   if (body_.capacity() >= kLargeBody) std::string().swap(body_);
 }
 
+void Session::stop_counting_stream() {
+  if (stream_state_ && stream_state_->counted) {
+    stream_state_->counted = false;
+    --shared_->streams;
+  }
+}
+
 void Session::evict() {
+  const std::lock_guard lock(stream_mutex_);
   close();
 }
 
@@ -324,6 +334,7 @@ void Session::close() {
       shared_->agent->unsubscribe(stream_state_->subscription);
       stream_state_->subscribed = false;
     }
+    stop_counting_stream();
   }
   beast::error_code ec;
   stream_.tcp().socket().shutdown(tcp::socket::shutdown_both, ec);
@@ -336,6 +347,7 @@ void Session::reject_busy() {
 }
 
 void Session::shutdown() {
+  const std::lock_guard lock(stream_mutex_);
   if (closed_) {
     return;
   }
@@ -354,6 +366,7 @@ void Session::shutdown() {
   state.timer.expires_after(kStreamEndTimeout);
   state.timer.async_wait([self = shared_from_this()](beast::error_code ec) {
     if (!ec) {
+      const std::lock_guard timer_lock(self->stream_mutex_);
       self->close();
     }
   });

@@ -1,7 +1,9 @@
 // One client connection: reads requests under strict limits, answers them
 // through the Agent, and turns a StreamPlan into a chunked multipart stream.
 // Every handler of a session runs on that session's strand (or, with one io
-// thread, on that thread: one at a time all the same).
+// thread, on that thread: one at a time all the same). A streaming session's
+// handlers also hold its stream mutex, which the thread feeding the agent
+// tries (never waits for) to write a part directly.
 #pragma once
 
 #include <array>
@@ -41,6 +43,10 @@ struct ServerShared {
   // Connections being answered 503 (not in `sessions`); beyond
   // max_connections more are closed without an answer.
   std::atomic<std::size_t> rejecting{0};
+  // Streams open (ServerOptions::direct_stream_writes) and parts written
+  // directly by the thread that fed the agent.
+  std::atomic<std::size_t> streams{0};
+  std::atomic<std::uint64_t> direct_parts{0};
 
   std::mutex mutex;  // guards sessions
   std::unordered_map<std::uint64_t, std::weak_ptr<Session>> sessions;
@@ -90,12 +96,17 @@ class Session : public std::enable_shared_from_this<Session> {
 
   void start_stream(StreamPlan plan);
   void read_until_eof();
+  void on_new_data();  // the agent's subscriber, on the thread that fed it
+  bool write_part_directly();
   void on_wake();
   void pump();
   void arm_timer(std::chrono::steady_clock::time_point due);
   using PartBuffers = std::array<asio::const_buffer, 3>;  // part head, body, tail
   void write_part();
   std::size_t write_now(const PartBuffers& buffers);
+  PartBuffers part_buffers() const;
+  void write_rest(std::size_t written);
+  void stop_counting_stream();
   void write_stream_end();
   void on_part_written(beast::error_code ec, bool last);
 
@@ -117,6 +128,8 @@ class Session : public std::enable_shared_from_this<Session> {
   std::string head_;  // response header / chunk framing, reused
   std::string body_;
   std::unique_ptr<Stream> stream_state_;
+  // Held by every handler of a streaming session, and by a direct part.
+  std::mutex stream_mutex_;
 };
 
 }  // namespace mtc::bridge::detail

@@ -5,6 +5,7 @@
 
 #include <boost/asio/post.hpp>
 #include <boost/beast/core/buffers_suffix.hpp>
+#include <mutex>
 #include <utility>
 
 #include "session.hpp"
@@ -21,17 +22,22 @@ constexpr std::chrono::milliseconds kPendingRetry{50};
 }  // namespace
 
 void Session::start_stream(StreamPlan plan) {
+  const std::lock_guard lock(stream_mutex_);
   stream_state_ = std::make_unique<Stream>(stream_.tcp().get_executor());
   auto& state = *stream_state_;
   state.plan = std::move(plan);
   state.boundary = make_boundary();
-  // The producer thread only flips a flag and posts; all work happens here.
+  ++shared_->streams;
+  state.counted = true;
+  if (!stream_.is_tls()) {
+    // Set once, here: a direct part (another thread) only reads the flag.
+    beast::error_code ec;
+    stream_.tcp().socket().non_blocking(true, ec);
+  }
   std::weak_ptr<Session> weak = shared_from_this();
   state.subscription = shared_->agent->subscribe([weak] {
     if (auto self = weak.lock()) {
-      if (!self->stream_state_->wake_pending.exchange(true)) {
-        asio::post(self->stream_.tcp().get_executor(), [self] { self->on_wake(); });
-      }
+      self->on_new_data();
     }
   });
   state.subscribed = true;
@@ -42,10 +48,69 @@ void Session::start_stream(StreamPlan plan) {
   write_part();  // head and first part leave together
 }
 
+// On the thread that fed the agent: the part goes from here when it can,
+// else this thread only flips a flag and posts, and the io thread does it.
+void Session::on_new_data() {
+  if (write_part_directly()) {
+    return;
+  }
+  if (!stream_state_->wake_pending.exchange(true)) {
+    asio::post(stream_.tcp().get_executor(), [self = shared_from_this()] { self->on_wake(); });
+  }
+}
+
+// True when this thread wrote the new part (or its first bytes, the rest
+// then goes from the io thread). False leaves everything to the io thread:
+// the stream busy (writing, a handler running, a part not yet due), TLS,
+// too many streams, or a socket that takes nothing now.
+bool Session::write_part_directly() {
+  const auto& options = shared_->options;
+  if (stream_.is_tls() || shared_->streams.load() > options.direct_stream_writes) {
+    return false;
+  }
+  const std::unique_lock lock(stream_mutex_, std::try_to_lock);
+  auto& state = *stream_state_;
+  if (!lock.owns_lock() || closed_ || state.writing || state.ending || state.ended ||
+      !state.plan.is_sample || shared_->agent->next_sequence() <= state.plan.next_sequence ||
+      Clock::now() < state.last_part + state.plan.interval) {
+    return false;
+  }
+  const StreamPlan before = state.plan;
+  Response part = shared_->agent->next_part(state.plan);
+  if (part.status != 200 || !hold_pending(part.body.size())) {
+    state.plan = before;  // the io thread meets the same answer and handles it
+    return false;
+  }
+  body_ = std::move(part.body);
+  write_part_head(head_, state.boundary, part.content_type, body_.size());
+  const PartBuffers buffers = part_buffers();
+  const std::size_t written = write_now(buffers);
+  if (written == 0) {
+    state.plan = before;
+    head_.clear();
+    release_pending();
+    return false;
+  }
+  ++shared_->direct_parts;
+  if (written == asio::buffer_size(buffers)) {
+    head_.clear();
+    release_pending();
+    state.last_part = Clock::now();
+    return true;
+  }
+  state.writing = true;  // the rest under the write timeout, from the io thread
+  asio::post(stream_.tcp().get_executor(), [self = shared_from_this(), written] {
+    const std::lock_guard io_lock(self->stream_mutex_);
+    self->write_rest(written);
+  });
+  return true;
+}
+
 void Session::read_until_eof() {
   auto& sink = stream_state_->sink;
   stream_.async_read_some(asio::buffer(sink),
                           [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                            const std::lock_guard lock(self->stream_mutex_);
                             if (ec) {
                               self->close();
                               return;
@@ -55,9 +120,7 @@ void Session::read_until_eof() {
 }
 
 void Session::on_wake() {
-  if (!stream_state_) {
-    return;
-  }
+  const std::lock_guard lock(stream_mutex_);
   stream_state_->wake_pending.store(false);
   pump();
 }
@@ -103,6 +166,7 @@ void Session::arm_timer(Clock::time_point due) {
     if (ec == asio::error::operation_aborted) {
       return;
     }
+    const std::lock_guard lock(self->stream_mutex_);
     self->stream_state_->armed_for = Clock::time_point::max();
     self->pump();
   });
@@ -126,20 +190,33 @@ void Session::write_part() {
   write_part_head(head_, state.boundary, part.content_type, body_.size());
 
   state.writing = true;
-  const PartBuffers buffers{asio::buffer(head_), asio::buffer(body_),
-                            asio::buffer(kPartTail.data(), kPartTail.size())};
+  const PartBuffers buffers = part_buffers();
   const std::size_t written = write_now(buffers);
   if (written == asio::buffer_size(buffers)) {
     // Posted, not called: a client that keeps up with a burst must not
     // recurse through pump() once per part.
-    asio::post(stream_.tcp().get_executor(),
-               [self = shared_from_this()] { self->on_part_written({}, false); });
+    asio::post(stream_.tcp().get_executor(), [self = shared_from_this()] {
+      const std::lock_guard lock(self->stream_mutex_);
+      self->on_part_written({}, false);
+    });
     return;
   }
-  beast::buffers_suffix<PartBuffers> rest(buffers);
+  write_rest(written);
+}
+
+Session::PartBuffers Session::part_buffers() const {
+  return {asio::buffer(head_), asio::buffer(body_),
+          asio::buffer(kPartTail.data(), kPartTail.size())};
+}
+
+// The part in head_ and body_ from byte `written` on, asynchronously under
+// the write timeout.
+void Session::write_rest(std::size_t written) {
+  beast::buffers_suffix<PartBuffers> rest(part_buffers());
   rest.consume(written);
   stream_.tcp().expires_after(shared_->options.write_timeout);  // read side stays unbounded
   stream_.async_write(rest, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    const std::lock_guard lock(self->stream_mutex_);
     self->on_part_written(ec, false);
   });
 }
@@ -153,9 +230,8 @@ void Session::write_part() {
 std::size_t Session::write_now(const PartBuffers& buffers) {
   if (stream_.is_tls()) return 0;
   auto& socket = stream_.tcp().socket();
+  if (!socket.non_blocking()) return 0;  // start_stream could not set it
   beast::error_code ec;
-  if (!socket.non_blocking()) socket.non_blocking(true, ec);
-  if (ec) return 0;
   const std::size_t n = socket.write_some(buffers, ec);
   return ec ? 0 : n;  // the asynchronous write meets the error again and closes
 }
@@ -169,6 +245,7 @@ void Session::write_stream_end() {
   stream_.tcp().expires_after(kStreamEndTimeout);
   stream_.async_write(asio::buffer(head_),
                       [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                        const std::lock_guard lock(self->stream_mutex_);
                         self->on_part_written(ec, true);
                       });
 }
