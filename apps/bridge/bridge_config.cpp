@@ -203,6 +203,10 @@ void set_max_pending(BridgeConfig& c, std::string_view v, const std::string& ori
                                                       origin, "MaxPendingBytes");
 }
 
+void set_direct_streams(BridgeConfig& c, std::string_view v, const std::string& origin) {
+  c.server.direct_stream_writes = parse_int<std::size_t>(v, 0, 4096, origin, "DirectStreamWrites");
+}
+
 void set_max_document(BridgeConfig& c, std::string_view v, const std::string& origin) {
   c.agent.max_document_bytes = parse_int<std::size_t>(v, std::size_t{1} << 12, std::size_t{1} << 31,
                                                       origin, "MaxDocumentBytes");
@@ -244,7 +248,7 @@ void set_shdr_ip(BridgeConfig& c, std::string_view v, const std::string& origin)
   c.shdr_enabled = true;
 }
 
-const std::array<Setting, 31> kSettings{{
+const std::array<Setting, 32> kSettings{{
     {"Devices", "--devices", "Devices.xml describing the devices (default: from DDS announcements)",
      set_devices},
     {"ServerIp", "--server-ip", "address to listen on", set_server_ip,
@@ -311,6 +315,10 @@ const std::array<Setting, 31> kSettings{{
      "answer bytes waiting for clients that do not read; a large answer beyond gets 503",
      set_max_pending,
      [](const BridgeConfig& c) { return std::to_string(c.server.max_pending_bytes); }},
+    {"DirectStreamWrites", "--direct-stream-writes",
+     "streams open up to which the DDS thread writes an idle stream's part itself (0: never)",
+     set_direct_streams,
+     [](const BridgeConfig& c) { return std::to_string(c.server.direct_stream_writes); }},
     {"MaxDocumentBytes", "--max-document-bytes",
      "largest /sample document; a larger one stops early (nextSequence goes on)", set_max_document,
      [](const BridgeConfig& c) { return std::to_string(c.agent.max_document_bytes); }},

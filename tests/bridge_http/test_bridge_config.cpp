@@ -125,6 +125,7 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
       "WriteTimeoutMs = 4000\n"
       "MaxConnectionsPerClient = 8\n"
       "MaxPendingBytes = 1048576\n"
+      "DirectStreamWrites = 0\n"
       "MaxDocumentBytes = 65536\n"
       "PathMaxVisits = 50000\n"
       "MaxAnnouncedDevices = 12\n"
@@ -147,6 +148,7 @@ TEST(BridgeConfig, ParsesAnAgentCfgStyleFile) {
   EXPECT_EQ(config.server.tls_certificate_file, "/etc/mtc/cert.pem");
   EXPECT_EQ(config.server.tls_private_key_file, "/etc/mtc/key.pem");
   EXPECT_EQ(config.server.max_connections, 10U);
+  EXPECT_EQ(config.server.direct_stream_writes, 0U);
   EXPECT_EQ(config.server.header_timeout, 2000ms);
   EXPECT_EQ(config.server.idle_timeout, 3000ms);
   EXPECT_EQ(config.server.write_timeout, 4000ms);
@@ -210,6 +212,8 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"StreamHeartbeatMs = 5", "agent.cfg:1: StreamHeartbeatMs"},
         Malformed{"MaxConnections = 0", "agent.cfg:1: MaxConnections"},
         Malformed{"MaxPendingBytes = 1000", "agent.cfg:1: MaxPendingBytes must be an integer"},
+        Malformed{"DirectStreamWrites = -1",
+                  "agent.cfg:1: DirectStreamWrites must be an integer from 0 to 4096"},
         Malformed{"PathMaxVisits = 1e6", "agent.cfg:1: PathMaxVisits must be an integer"},
         Malformed{"HeaderTimeoutMs = 10s", "agent.cfg:1: HeaderTimeoutMs"},
         Malformed{"MaxAnnouncedDevices = 0", "agent.cfg:1: MaxAnnouncedDevices"},
