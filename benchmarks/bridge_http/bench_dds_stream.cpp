@@ -65,7 +65,9 @@ constexpr const char* kAbout =
     "(EquipmentOptions/DomainObserverOptions::inline_steps, mtc-bridge's InlineSteps).\n"
     "One JSON line on stdout:\n"
     "  {\"benchmark\":\"bridge_http_dds_stream_latency\",\"middleware\",\"inline_steps\",\n"
-    "   \"processes\":2,\"lost\",\"from_transition_us\":{p50,p90,p99,max,mean},\n"
+    "   "
+    "\"direct_stream_writes\",\"processes\":2,\"lost\",\"direct_parts\",\"from_transition_us\":{"
+    "p50,p90,p99,max,mean},\n"
     "   \"from_command_us\":{...},\"legs_us\":{dds,observer_handoff,agent_to_client},\n"
     "   \"meets_bar\",...}\n"
     "(legs: the transition to the observer's listener, the listener to its dispatch\n"
@@ -78,6 +80,7 @@ struct Setup {
   int samples = 1000;
   dds::Middleware middleware = dds::Middleware::FastDds;
   bool inline_steps = false;
+  int direct_stream_writes = static_cast<int>(bridge::ServerOptions{}.direct_stream_writes);
   int command_fd = -1;  // the device reads its toggles here ('r', 'n')
   bool device = false;
 };
@@ -225,13 +228,17 @@ Latencies measure(StreamClient& client, Device& device, const Handover& handover
 }
 
 // The JSON line on stdout: both latencies and whether they meet the bar.
-void print_result(const Setup& setup, const Latencies& m) {
+// `direct_parts`: parts the server wrote on the observer's thread
+// (ServerOptions::direct_stream_writes).
+void print_result(const Setup& setup, const Latencies& m, std::uint64_t direct_parts) {
   const int lost = m.lost;
   const auto step = summarize(m.from_step);
   std::cout << "{\"benchmark\":\"bridge_http_dds_stream_latency\",\"transport\":\"loopback\","
             << "\"middleware\":\"" << dds::to_string(setup.middleware)
             << "\",\"inline_steps\":" << (setup.inline_steps ? "true" : "false")
-            << ",\"processes\":2,\"lost\":" << lost << ",\"from_transition_us\":";
+            << ",\"direct_stream_writes\":" << setup.direct_stream_writes
+            << ",\"processes\":2,\"lost\":" << lost << ",\"direct_parts\":" << direct_parts
+            << ",\"from_transition_us\":";
   print_summary(std::cout, step);
   std::cout << ",\"from_command_us\":";
   print_summary(std::cout, summarize(m.from_command));
@@ -253,6 +260,7 @@ int run_bridge(const Setup& setup) {
   std::shared_ptr<bridge::MtconnectAgent> agent = bridge::make_agent(bridge::AgentOptions{});
   bridge::ServerOptions server_options;
   server_options.port = 0;
+  server_options.direct_stream_writes = static_cast<std::size_t>(setup.direct_stream_writes);
   bridge::HttpServer server(agent, server_options);
   server.start();
   auto observer_options = mtc::bench::loopback<dds::DomainObserverOptions>();
@@ -278,7 +286,8 @@ int run_bridge(const Setup& setup) {
   if (!client.wait(std::chrono::seconds(20))) {
     throw std::runtime_error("device never reached the bridge");
   }
-  print_result(setup, measure(client, device, handover, setup.samples));
+  const Latencies latencies = measure(client, device, handover, setup.samples);
+  print_result(setup, latencies, server.direct_stream_parts());
   return 0;
 }
 
@@ -291,6 +300,8 @@ std::optional<int> parse(int argc, char** argv, Setup& setup) {
               "DDS implementation of the device and the observer")
       .flag("--inline-steps", setup.inline_steps,
             "device and observer step a received value on the middleware's thread")
+      .integer("--direct-stream-writes", setup.direct_stream_writes, 0, 1000,
+               "the server's ServerOptions::direct_stream_writes (0: parts from its io thread)")
       .internal_options_follow()
       .flag("--device", setup.device, "run as the device process")
       .integer("--command-fd", setup.command_fd, 0, 1 << 20, "the device's toggles");

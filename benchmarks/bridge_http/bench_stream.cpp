@@ -83,17 +83,20 @@ int main(int argc, char** argv) try {
   int samples = 2000;
   int client_count = 4;
   int io_threads = 1;
+  int direct = static_cast<int>(mtc::bridge::ServerOptions{}.direct_stream_writes);
   std::string devices = MTC_DEMO_DEVICES;
   mtc::bench::Cli cli("mtc-bench-bridge-stream", kAbout);
   cli.integer("--samples", samples, 1, 10000000, "values fed and timed")
       .integer("--clients", client_count, 1, 256, "streaming clients")
       .integer("--io-threads", io_threads, 1, 64, "the HTTP server's io threads")
+      .integer("--direct-stream-writes", direct, 0, 1000,
+               "ServerOptions::direct_stream_writes (0: every part from the io thread)")
       .text("--devices", "FILE", devices, "MTConnect Devices file of the demo cell");
   if (const auto exit_code = cli.parse(argc, argv)) {
     return *exit_code;
   }
 
-  DemoCell cell(devices, static_cast<unsigned>(io_threads));
+  DemoCell cell(devices, static_cast<unsigned>(io_threads), static_cast<std::size_t>(direct));
   std::vector<std::unique_ptr<StreamClient>> clients;
   clients.reserve(static_cast<std::size_t>(client_count));
   for (int i = 0; i < client_count; ++i) {
@@ -105,7 +108,9 @@ int main(int argc, char** argv) try {
   const auto one = summarize(m.first_client);
   const auto all = summarize(m.all_clients);
   std::cout << "{\"benchmark\":\"bridge_http_stream_latency\",\"clients\":" << client_count
-            << ",\"io_threads\":" << io_threads << ",\"lost\":" << lost << ",\"first_client_us\":";
+            << ",\"io_threads\":" << io_threads << ",\"direct_stream_writes\":" << direct
+            << ",\"direct_parts\":" << cell.direct_stream_parts() << ",\"lost\":" << lost
+            << ",\"first_client_us\":";
   print_summary(std::cout, one);
   std::cout << ",\"all_clients_us\":";
   print_summary(std::cout, all);

@@ -31,7 +31,8 @@ std::vector<core::ObservedState> values_for(const std::string& type, const std::
 
 }  // namespace
 
-DemoCell::DemoCell(const std::string& devices_file, unsigned io_threads) {
+DemoCell::DemoCell(const std::string& devices_file, unsigned io_threads,
+                   std::size_t direct_stream_writes) {
   AgentOptions options;
   options.devices_file = devices_file;
   agent_ = make_agent(options);
@@ -65,6 +66,7 @@ DemoCell::DemoCell(const std::string& devices_file, unsigned io_threads) {
   ServerOptions server;
   server.port = 0;
   server.io_threads = io_threads;
+  server.direct_stream_writes = direct_stream_writes;
   server.max_connections = 1024;
   server_ = std::make_unique<HttpServer>(agent_, server);
   server_->start();

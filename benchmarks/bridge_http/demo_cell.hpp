@@ -23,13 +23,16 @@ struct FedItem {
 
 class DemoCell {
  public:
-  DemoCell(const std::string& devices_file, unsigned io_threads);
+  // `direct_stream_writes`: ServerOptions::direct_stream_writes.
+  DemoCell(const std::string& devices_file, unsigned io_threads,
+           std::size_t direct_stream_writes = ServerOptions{}.direct_stream_writes);
   ~DemoCell();
   DemoCell(const DemoCell&) = delete;
   DemoCell& operator=(const DemoCell&) = delete;
 
   MtconnectAgent& agent() { return *agent_; }
   std::uint16_t port() const { return server_->port(); }
+  std::uint64_t direct_stream_parts() const { return server_->direct_stream_parts(); }
   const std::vector<FedItem>& items() const { return items_; }
 
   // Gives item `index % items().size()` its next value (round robin).
