@@ -120,18 +120,20 @@ def bridge_part(lines):
                     ("requests_per_second", "latency_us", "server_cpu_us_per_request",
                      "meets_bar")} if current else None,
         "dds_to_stream": {k: stream.get(k) for k in
-                          ("lost", "from_transition_us", "legs_us", "meets_bar")}
+                          ("lost", "direct_parts", "from_transition_us", "legs_us",
+                           "meets_bar")}
         if stream else None,
         # The same path with inline steps, and over Cyclone DDS (issue 9
         # section 5's target: p50 <= 100 us, p99 <= 1 ms).
         "dds_to_stream_variants": {
             key.split("@", 1)[1]: {k: line.get(k) for k in
-                                   ("lost", "from_transition_us", "legs_us")}
+                                   ("lost", "direct_parts", "from_transition_us", "legs_us")}
             for key, line in lines.items()
             if key.startswith("bridge_http_dds_stream_latency@")},
         "fanout": {k: fanout.get(k) for k in
                    ("clients", "lost", "all_clients_us", "last_client_us", "rss_kb",
-                    "rss_growth_while_streaming_kb", "meets_bar")} if fanout else None,
+                    "rss_growth_while_streaming_kb", "cpu_us_per_part", "meets_bar")}
+        if fanout else None,
         "stream": lines.get("bridge_http_stream_latency"),
         "abuse": lines.get("bridge_abuse"),
     }
