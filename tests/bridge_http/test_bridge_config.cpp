@@ -1,6 +1,7 @@
 // agent.cfg-style configuration and command-line flags: valid files, a
 // table of malformed ones (each must name its line), and flag precedence.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
@@ -308,7 +309,12 @@ TEST(BridgeConfig, MissingFileIsAClearError) {
 class CommandLineTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    path_ = ::testing::TempDir() + "bridge_http_agent.cfg";
+    // One file per test: ctest runs the cases of this fixture in parallel
+    // processes, and one's TearDown must not remove another's file (seen in
+    // CI: "cannot open config file" in a case whose file had just gone).
+    path_ = ::testing::TempDir() + "bridge_cli_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+            std::to_string(::getpid()) + ".cfg";
     std::ofstream(path_) << "Port = 6000\nDomainIds = 81\nSender = file\n";
   }
   void TearDown() override { std::remove(path_.c_str()); }
