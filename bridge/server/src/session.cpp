@@ -80,10 +80,7 @@ Session::Session(tcp::socket socket, std::shared_ptr<ServerShared> shared, std::
 }
 
 Session::~Session() {
-  if (stream_state_ && stream_state_->subscribed) {
-    shared_->agent->unsubscribe(stream_state_->subscription);
-  }
-  stop_counting_stream();
+  end_subscription();
   release_pending();
   if (id_ == 0) {  // a connection answered 503 (HttpServer::Impl::on_accept)
     --shared_->rejecting;
@@ -114,9 +111,12 @@ void Session::release_pending() {
   if (body_.capacity() >= kLargeBody) std::string().swap(body_);
 }
 
-void Session::stop_counting_stream() {
-  if (stream_state_ && stream_state_->counted) {
-    stream_state_->counted = false;
+// A stream is counted in ServerShared::streams exactly while it is
+// subscribed to the agent.
+void Session::end_subscription() {
+  if (stream_state_ && stream_state_->subscribed) {
+    shared_->agent->unsubscribe(stream_state_->subscription);
+    stream_state_->subscribed = false;
     --shared_->streams;
   }
 }
@@ -330,11 +330,7 @@ void Session::close() {
   release_pending();
   if (stream_state_) {
     stream_state_->timer.cancel();
-    if (stream_state_->subscribed) {
-      shared_->agent->unsubscribe(stream_state_->subscription);
-      stream_state_->subscribed = false;
-    }
-    stop_counting_stream();
+    end_subscription();
   }
   beast::error_code ec;
   stream_.tcp().socket().shutdown(tcp::socket::shutdown_both, ec);

@@ -43,8 +43,9 @@ struct ServerShared {
   // Connections being answered 503 (not in `sessions`); beyond
   // max_connections more are closed without an answer.
   std::atomic<std::size_t> rejecting{0};
-  // Streams open (ServerOptions::direct_stream_writes) and parts written
-  // directly by the thread that fed the agent.
+  // Streams open, i.e. subscribed to the agent (ServerOptions::
+  // direct_stream_writes), and parts written directly by the thread that
+  // fed the agent.
   std::atomic<std::size_t> streams{0};
   std::atomic<std::uint64_t> direct_parts{0};
 
@@ -106,7 +107,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::size_t write_now(const PartBuffers& buffers);
   PartBuffers part_buffers() const;
   void write_rest(std::size_t written);
-  void stop_counting_stream();
+  void end_subscription();  // unsubscribes and stops counting the stream
   void write_stream_end();
   void on_part_written(beast::error_code ec, bool last);
 

@@ -27,8 +27,6 @@ void Session::start_stream(StreamPlan plan) {
   auto& state = *stream_state_;
   state.plan = std::move(plan);
   state.boundary = make_boundary();
-  ++shared_->streams;
-  state.counted = true;
   if (!stream_.is_tls()) {
     // Set once, here: a direct part (another thread) only reads the flag.
     beast::error_code ec;
@@ -41,6 +39,7 @@ void Session::start_stream(StreamPlan plan) {
     }
   });
   state.subscribed = true;
+  ++shared_->streams;  // until end_subscription()
 
   stream_.tcp().expires_never();
   read_until_eof();  // notices a client that hangs up between parts

@@ -30,7 +30,6 @@ struct Session::Stream {
   bool ending = false;            // shutdown asked for the final boundary
   bool ended = false;             // the final boundary is on its way
   bool stop_after_write = false;  // the agent answered an error part
-  bool counted = false;           // in ServerShared::streams
   std::atomic<bool> wake_pending{false};
   std::array<char, 256> sink{};  // client bytes while streaming, discarded
 };
