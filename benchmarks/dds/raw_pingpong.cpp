@@ -77,15 +77,9 @@ class Endpoint {
     const fdds::DomainParticipantQos pqos = mtc::qos::participant_qos(pc);
     const mtc::qos::EndpointQos preset = mtc::qos::state_topic(pc.timing);
 
-    auto* factory = fdds::DomainParticipantFactory::get_instance();
-    {
-      // Fast DDS 2.9 reads the user name with getpwuid(), which is not
-      // thread-safe, while it creates a participant; the one-process series
-      // creates both ends at once (TSan saw the two calls race).
-      static std::mutex creating;
-      const std::lock_guard<std::mutex> lock(creating);
-      participant_ = factory->create_participant(options.domain_id, pqos);
-    }
+    // One at a time, after Fast DDS's type registry (participant_qos.hpp):
+    // the one-process series creates both ends at once.
+    participant_ = mtc::qos::create_participant(options.domain_id, pqos);
     check(participant_ != nullptr, "participant");
     check_rc(type_.register_type(participant_), "type registration");
     fdds::Topic* wtopic = participant_->create_topic(write_topic, type_.get_type_name(),

@@ -6,7 +6,6 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <iostream>
 #include <memory>
-#include <mutex>
 
 #include "mtc/dds/detail/return_code.hpp"
 #include "mtc/qos/participant_qos.hpp"
@@ -44,15 +43,7 @@ Participant::Participant(int domain_id, const fdds::DomainParticipantQos& qos) {
   if (uses_shared_memory(qos)) qos::remove_stale_shared_memory_once();
   fdds::DomainParticipantQos anchored = qos;
   qos::anchor_discovery_port(anchored, domain_id);
-  {
-    // One participant at a time per process: Fast DDS 2.9 reads the user
-    // name with getpwuid(), which is not thread-safe, while it creates one
-    // (equipments started from several threads at once would race there).
-    static std::mutex creating;
-    const std::lock_guard<std::mutex> lock(creating);
-    participant_ =
-        fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, anchored);
-  }
+  participant_ = qos::create_participant(domain_id, anchored);
   if (participant_ == nullptr) {
     const std::string what = "create_participant(domain " + std::to_string(domain_id) + ")";
     const std::string security_dir = qos::security_dir_of(qos);

@@ -1,11 +1,13 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastdds/rtps/transport/test_UDPv4TransportDescriptor.h>
+#include <fastrtps/types/TypeObjectFactory.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <fastrtps/xmlparser/XMLProfileManager.h>
 
 #include <climits>
 #include <cstdlib>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <mutex>
 #include <random>
 #include <stdexcept>
@@ -216,6 +218,13 @@ ParticipantConfig participant_config(std::string_view profile_name, const Timing
                                 std::string(kLoopbackUdpParticipantProfile) + ")");
   }
   return config;
+}
+
+fdds::DomainParticipant* create_participant(int domain_id, const fdds::DomainParticipantQos& qos) {
+  static std::mutex creating;
+  const std::lock_guard<std::mutex> lock(creating);
+  eprosima::fastrtps::types::TypeObjectFactory::get_instance();
+  return fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
 }
 
 std::optional<Transport> parse_transport(std::string_view text) noexcept {
