@@ -220,11 +220,14 @@ ParticipantConfig participant_config(std::string_view profile_name, const Timing
   return config;
 }
 
-fdds::DomainParticipant* create_participant(int domain_id, const fdds::DomainParticipantQos& qos) {
+fdds::DomainParticipant* create_participant(int domain_id, const fdds::DomainParticipantQos& qos,
+                                            fdds::DomainParticipantListener* listener,
+                                            const fdds::StatusMask& mask) {
   static std::mutex creating;
   const std::lock_guard<std::mutex> lock(creating);
   eprosima::fastrtps::types::TypeObjectFactory::get_instance();
-  return fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+  return fdds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos,
+                                                                            listener, mask);
 }
 
 std::optional<Transport> parse_transport(std::string_view text) noexcept {

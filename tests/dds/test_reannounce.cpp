@@ -40,8 +40,7 @@ class DiscoveryWatch : public fdds::DomainParticipantListener {
   DiscoveryWatch(int domain, std::string participant_name) : name_(std::move(participant_name)) {
     auto qos = qos::participant_qos(mtc::test::loopback<qos::ParticipantConfig>());
     qos::anchor_discovery_port(qos, domain);
-    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
-        domain, qos, this, fdds::StatusMask::none());
+    participant_ = qos::create_participant(domain, qos, this, fdds::StatusMask::none());
     if (participant_ == nullptr) throw std::runtime_error("DiscoveryWatch: create_participant");
   }
   ~DiscoveryWatch() override {

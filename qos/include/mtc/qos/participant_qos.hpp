@@ -45,8 +45,11 @@ void anchor_discovery_port(eprosima::fastdds::dds::DomainParticipantQos& qos, in
 //   fills in type information) on the thread that creates it: endpoints
 //   created on two threads at once made two registries, and one leaked
 //   (seen by LeakSanitizer, 434 KB, in the one-process raw benchmark).
+// `listener` and `mask` as Fast DDS's own create_participant takes them.
 eprosima::fastdds::dds::DomainParticipant* create_participant(
-    int domain_id, const eprosima::fastdds::dds::DomainParticipantQos& qos);
+    int domain_id, const eprosima::fastdds::dds::DomainParticipantQos& qos,
+    eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr,
+    const eprosima::fastdds::dds::StatusMask& mask = eprosima::fastdds::dds::StatusMask::all());
 
 // The security directory a participant QoS was built with, or "" when it
 // has none: for the error when Fast DDS refuses such a participant.
