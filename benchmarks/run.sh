@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs every benchmark inside the loopback-only network namespace and
 # collects JSON summaries and plots in bench-results/ (gitignored):
+#   wakeup.json          mtc-bench-wakeup: one thread hand-off on one CPU and across two,
+#                        after idle gaps: the unit every latency below is made of
 #   core.json            mtc-bench-core (Google Benchmark JSON)
 #   bridge_agent.json    mtc-bench-bridge-agent (Google Benchmark JSON)
 #   bridge_path_cost.json  mtc-bench-bridge-path-cost (one JSON line)
@@ -9,6 +11,8 @@
 #                        Cyclone round trips beside the mtc transition and handshake,
 #                        with ratios; dds_latency_samples.json its raw samples
 #   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
+#   dds_latency_one_cpu.json  the same with every process on one CPU (--cpus 0): the
+#                        hand-offs without the wake-up of another (halted) vCPU
 #   security.json        mtc-bench-security: start-up and handshake, secured vs unsecured
 #   latency_cdf_shm_udp.png, latency_cdf_udp_loopback.png   latency CDFs per transport
 #   scale.json, scaling.png   mtc-bench-scale: 1/10/100 concurrent pairs (closed loop, then
@@ -46,7 +50,8 @@ started=$SECONDS
 [ "$build_first" = 1 ] && "$root/scripts/build.sh"
 mkdir -p "$out"
 # Results of an earlier run must not pass for this one's.
-rm -f "$out"/{core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
+rm -f "$out"/{wakeup,core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
+  "$out"/dds_latency_one_cpu.json \
   "$out"/{security,scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling}.png "$out"/cdf_*.dat
 failed=()
 load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
@@ -72,6 +77,14 @@ gbench() {  # gbench <exe> <json-name>
   [ "$quick" = 1 ] && args+=(--benchmark_min_time=0.01)
   run_one "$1" "$exe" "${args[@]}"
 }
+
+if [ -x "$bin/mtc-bench-wakeup" ]; then
+  wakeup_args=(--out "$out/wakeup.json")
+  [ "$quick" = 1 ] && wakeup_args+=(--samples 100)
+  run_one mtc-bench-wakeup "$bin/mtc-bench-wakeup" "${wakeup_args[@]}" >/dev/null
+else
+  note "mtc-bench-wakeup not built, skipped"
+fi
 
 gbench mtc-bench-core core.json
 gbench mtc-bench-bridge-agent bridge_agent.json
@@ -118,6 +131,16 @@ if [ -x "$bin/mtc-bench-dds-latency" ]; then
     python3 "$root/benchmarks/dds/plot_latency.py" "$out/dds_latency.json" "$out/dds_latency" ||
       failed+=("dds plot")
   fi
+  # Again with every process on CPU 0 (the forked peers and ddsperf inherit
+  # the mask): what the same code costs when no hand-off has to wake the
+  # other vCPU. The default and inline stepping, 1,000 round trips a series.
+  one_cpu_args=(--out "$out/dds_latency_one_cpu.json" --cpus 0 --step-modes both)
+  if [ "$quick" = 1 ]; then
+    one_cpu_args+=(--samples 100 --warmup 50 --handshakes 30 --rounds 1 --cyclone-seconds 1)
+  else
+    one_cpu_args+=(--samples 1000)
+  fi
+  run_one "mtc-bench-dds-latency --cpus 0" "$bin/mtc-bench-dds-latency" "${one_cpu_args[@]}" >/dev/null
 else
   note "mtc-bench-dds-latency not built, skipped"
 fi

@@ -87,6 +87,15 @@ def idle_policy():
     }
 
 
+def wakeup_part(wakeup):
+    """mtc-bench-wakeup's hand-offs, keyed "<placement>@<gap_us>us"."""
+    if not wakeup:
+        return None
+    return {"%s@%dus" % (s.get("placement"), s.get("gap_us", 0)):
+            {k: s.get(k) for k in ("wake_p50", "wake_p99", "notify_p50", "notify_p99")}
+            for s in wakeup.get("series", [])}
+
+
 def commit(root):
     try:
         return subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"],
@@ -100,12 +109,13 @@ def dds_part(dds):
         return None
     series = {s["name"]: {k: s.get(k) for k in
                           ("p50", "p90", "p99", "p999", "max", "count", "timeouts",
-                           "cpu_us_per_op")}
+                           "cpu_us_per_op", "legs_p50_us") if k in s}
               for s in dds.get("series", [])}
     cyclone = dds.get("cyclone") or {}
     return {"series": series,
             "cyclone": {k: cyclone.get(k) for k in
                         ("available", "why", "p50", "p90", "p99", "max", "cpu_us_per_op")},
+            "cpus": dds.get("cpus"),
             "ratios": dds.get("ratios"), "targets": dds.get("targets"),
             "load_average_start": dds.get("load_average_start"),
             "load_average_end": dds.get("load_average_end")}
@@ -169,6 +179,15 @@ def required(summary):
     for key in ("shm_udp", "shm_udp_executor", "shm_udp_inline"):
         checks.append(("dds_latency.targets." + key, key in (dds.get("targets") or {})))
     checks.append(("dds_latency.load_average_start", dds.get("load_average_start") is not None))
+    one_cpu = (summary.get("dds_latency_one_cpu") or {}).get("series") or {}
+    for name in ("raw_fastdds_listener_round_trip_shm_udp_2proc", "mtc_handshake_shm_udp_2proc",
+                 "mtc_handshake_shm_udp_2proc_inline"):
+        checks.append(("dds_latency_one_cpu.series.%s.count" % name,
+                       ((one_cpu.get(name) or {}).get("count") or 0) > 0))
+    wakeup = (summary.get("machine") or {}).get("wakeup") or {}
+    checks.append(("machine.wakeup.same_cpu@200us", "same_cpu@200us" in wakeup))
+    if (os.cpu_count() or 1) > 1:
+        checks.append(("machine.wakeup.other_cpu@200us", "other_cpu@200us" in wakeup))
     for pairs in (1, 10, 100):
         level = levels.get(pairs) or {}
         checks.append(("scale.levels[pairs=%d].handshakes" % pairs,
@@ -211,13 +230,15 @@ def main():
         "generated_utc": datetime.datetime.now(datetime.timezone.utc).strftime(
             "%Y-%m-%dT%H:%M:%SZ"),
         "commit": commit(root),
-        "machine": machine(),
+        "machine": dict(machine(), wakeup=wakeup_part(load_json(os.path.join(r, "wakeup.json")))),
         "quick": args.quick,
         "run_seconds": args.seconds,
         "load_average_start": [float(x) for x in args.load_start.split()]
         if args.load_start else None,
         "load_average_end": load_end,
         "dds_latency": dds_part(load_json(os.path.join(r, "dds_latency.json"))),
+        # The same benchmark with every process on one CPU (run.sh --cpus 0).
+        "dds_latency_one_cpu": dds_part(load_json(os.path.join(r, "dds_latency_one_cpu.json"))),
         "scale": load_json(os.path.join(r, "scale.json")),
         "security": load_json(os.path.join(r, "security.json")),
         "bridge": bridge_part(load_json_lines(os.path.join(r, "bridge_http.json"))),

@@ -22,6 +22,7 @@
 #include <condition_variable>
 #include <future>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -114,6 +115,7 @@ class Probe {
     ready_seen_ns_ = 0;
     completed_ = false;
     transitions_.clear();
+    legs_.clear();
   }
 
   // Waits for the requester to see the response back at READY after COMPLETE.
@@ -128,6 +130,11 @@ class Probe {
     return std::move(transitions_);
   }
 
+  std::map<std::string, std::vector<double>> take_legs() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::move(legs_);
+  }
+
  private:
   // Response ACTIVE and COMPLETE change the requester's machine: timed from
   // its TransitionEvent.
@@ -139,6 +146,7 @@ class Probe {
     }
     std::lock_guard<std::mutex> lock(mutex_);
     transitions_.push_back(static_cast<double>(e.step_time_ns - e.trigger_source_time_ns) / 1000.0);
+    add_legs(e);
     if (event == core::Event::SeenComplete) {
       completed_ = true;
     }
@@ -163,8 +171,27 @@ class Probe {
     cv_.notify_all();
   }
 
+  // The responder's write until our listener had the sample (the
+  // middleware: serialising, the transport, the wake-up of our receive
+  // thread), then until the step, and the requester's own write of READY
+  // after COMPLETE (Fast DDS or Cyclone's write call).
+  void add_legs(const dds::TransitionEvent& e) {
+    if (e.trigger_receive_time_ns == 0) {
+      return;
+    }
+    auto us = [](std::int64_t from, std::int64_t to) {
+      return static_cast<double>(to - from) / 1e3;
+    };
+    legs_["transit"].push_back(us(e.trigger_source_time_ns, e.trigger_receive_time_ns));
+    legs_["step"].push_back(us(e.trigger_receive_time_ns, e.step_time_ns));
+    if (e.publish_time_ns != 0) {
+      legs_["write"].push_back(us(e.step_time_ns, e.publish_time_ns));
+    }
+  }
+
   std::mutex mutex_;
   std::condition_variable cv_;
+  std::map<std::string, std::vector<double>> legs_;
   std::vector<double> transitions_;
   std::int64_t ready_seen_ns_ = 0;
   bool completed_ = false;
@@ -183,6 +210,17 @@ void stop_series(PairRun& run, const std::string& why, int not_run, std::size_t 
             << " timed handshakes of this series not run\n";
   run.handshake.timeouts += static_cast<std::size_t>(not_run) + lost;
   ++run.stalls;
+}
+
+// One handshake's transitions, and their legs, into the series.
+void add_transitions(Probe& probe, Series& transition) {
+  for (double v : probe.take_transitions()) {
+    transition.samples_us.push_back(v);
+  }
+  for (auto& [leg, samples] : probe.take_legs()) {
+    auto& into = transition.legs_us[leg];
+    into.insert(into.end(), samples.begin(), samples.end());
+  }
 }
 
 // Runs `handshakes` (after a warm-up) against a responder that is already
@@ -235,9 +273,7 @@ PairRun run_requester(int domain, qos::Transport t, int handshakes, pid_t peer, 
       continue;
     }
     run.handshake.samples_us.push_back(static_cast<double>(both_ready - t0) / 1000.0);
-    for (double v : probe.take_transitions()) {
-      run.transition.samples_us.push_back(v);
-    }
+    add_transitions(probe, run.transition);
   }
   // Idle time between handshakes (heartbeats) is counted too; there is none
   // to speak of: the next request follows at once.

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,10 @@ struct Series {
   // CPU time (user + system) of every process taking part, per timed
   // operation; negative when not measured.
   double cpu_us_per_op = -1;
+  // Parts of each sample where the series can tell them apart (a
+  // transition: the middleware's transit, the runtime's step, the write),
+  // printed as p50s: where the time goes.
+  std::map<std::string, std::vector<double>> legs_us;
 };
 
 struct Summary {
@@ -75,7 +80,18 @@ inline std::string to_json(const Series& series) {
                 series.name.c_str(), series.layer.c_str(), series.metric.c_str(),
                 series.transport.c_str(), series.processes, series.stepping.c_str(), s.count,
                 series.timeouts, s.min, s.mean, s.p50, s.p90, s.p99, s.p999, s.max, cpu);
-  return buf;
+  std::string json = buf;
+  if (!series.legs_us.empty()) {
+    json.pop_back();  // the closing brace
+    json += ",\"legs_p50_us\":{";
+    for (const auto& [leg, samples] : series.legs_us) {
+      std::snprintf(buf, sizeof buf, "%s\"%s\":%.1f", json.back() == '{' ? "" : ",", leg.c_str(),
+                    summarize(samples).p50);
+      json += buf;
+    }
+    json += "}}";
+  }
+  return json;
 }
 
 }  // namespace mtc::bench

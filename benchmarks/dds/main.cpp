@@ -20,6 +20,7 @@
 #include "cyclone_pingpong.hpp"
 #include "equipment_latency.hpp"
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/cpus.hpp"
 #include "mtc/bench/proc_cpu.hpp"
 #include "ratios.hpp"
 #include "raw_pingpong.hpp"
@@ -42,6 +43,8 @@ struct Options {
   int cyclone_seconds = 3;
   std::string out;
   std::string samples_out;
+  // The CPUs of every process of the run ("all": the machine's placement).
+  std::string cpus = "all";
   bool raw = true;
   bool equipment = true;
   // The equipment series' stepping modes, each a pass of every round
@@ -128,6 +131,10 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
       .integer("--cyclone-seconds", o.cyclone_seconds, 0, 3600,
                "seconds of ddsperf ping, plus 2 for its start-up\n(0: no Cyclone baseline)")
       .choice("--only", only, {"raw", "equipment"}, "measure only these series (default both)")
+      .text("--cpus", "LIST", o.cpus,
+            "run every process of the run on these CPUs\n(\"0\", \"0,1\", \"0-1\"; they inherit "
+            "the mask):\non a VM, one vCPU spares each hand-off the\nwake-up of a halted vCPU "
+            "(mtc-bench-wakeup)")
       .text("--out", "FILE", o.out, "also write the JSON to FILE (default stdout only)")
       .text("--samples-out", "FILE", o.samples_out,
             "write every series' samples, sorted, to FILE as\n{\"name\":[us,...],...} (for CDF "
@@ -161,6 +168,9 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   }
   if (!mtc::bench::parse_transport(transport, o.transport)) {
     return cli.usage_error("--transport: no such transport '" + transport + "'");
+  }
+  if (const auto error = mtc::bench::confine_to_cpus(o.cpus)) {
+    return cli.usage_error(*error);
   }
   return std::nullopt;
 }
@@ -210,7 +220,7 @@ std::string to_json(const Options& o, const std::vector<Series>& all, const RunC
   json << "{\"benchmark\":\"dds_latency\",\"unit\":\"us\",\"cores\":"
        << std::thread::hardware_concurrency() << ",\"samples\":" << o.samples
        << ",\"handshakes\":" << o.handshakes << ",\"rounds\":" << o.rounds
-       << ",\"stepping\":" << modes_json(o.modes)
+       << ",\"stepping\":" << modes_json(o.modes) << ",\"cpus\":\"" << o.cpus << "\""
        << ",\"load_average_start\":" << load_json(run.load_start)
        << ",\"load_average_end\":" << load_json(run.load_end)
        << ",\"cpu_note\":\"cpu_us_per_op: user+system CPU of every process taking part "
@@ -284,6 +294,10 @@ void pool(Series& into, const Series& more) {
         (into.cpu_us_per_op * before + more.cpu_us_per_op * added) / (before + added);
   }
   into.samples_us.insert(into.samples_us.end(), more.samples_us.begin(), more.samples_us.end());
+  for (const auto& [leg, samples] : more.legs_us) {
+    auto& legs = into.legs_us[leg];
+    legs.insert(legs.end(), samples.begin(), samples.end());
+  }
   into.timeouts += more.timeouts;
 }
 
