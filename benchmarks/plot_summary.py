@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Draws the plots of benchmarks/run.sh with gnuplot: the latency CDFs per
-transport (from mtc-bench-dds-latency --samples-out) and the scaling curve
-(from mtc-bench-scale). Standard library only; prints the files it wrote and
+transport (from mtc-bench-dds-latency --samples-out), the scaling curve
+(from mtc-bench-scale) and the same latencies spread over the machine's
+CPUs and on one CPU (placement.png, from both dds_latency passes). Standard library only; prints the files it wrote and
 skips (with a note) what it has no data or no gnuplot for.
 
 Usage: plot_summary.py RESULTS_DIR
@@ -113,6 +114,50 @@ def plot_scale(results, scale):
     return [stem + ".png"]
 
 
+# placement.png: (series in dds_latency*.json, label); the Cyclone round trip
+# comes from its "cyclone" object.
+PLACEMENT_SERIES = (
+    ("udp_round_trip_2proc", "UDP round trip"),
+    ("cyclone", "Cyclone round trip (ddsperf)"),
+    ("raw_fastdds_listener_round_trip_shm_udp_2proc", "Fast DDS listener round trip"),
+    ("mtc_handshake_shm_udp_2proc", "handshake, Fast DDS"),
+    ("mtc_handshake_shm_udp_2proc_inline", "handshake, Fast DDS, inline"),
+    ("mtc_handshake_cyclone_udp_loopback_2proc_inline", "handshake, Cyclone, inline"),
+)
+
+
+def placement_p50(latency, name):
+    if name == "cyclone":
+        return (latency.get("cyclone") or {}).get("p50")
+    return next((s.get("p50") for s in latency.get("series", []) if s.get("name") == name), None)
+
+
+def plot_placement(results, spread, one_cpu):
+    rows = []
+    for name, text in PLACEMENT_SERIES:
+        a, b = placement_p50(spread, name), placement_p50(one_cpu, name)
+        if a is not None and b is not None:
+            rows.append((text, a, b))
+    if not rows:
+        return []
+    dat = os.path.join(results, "placement.dat")
+    with open(dat, "w") as f:
+        f.write("# series p50_spread_us p50_one_cpu_us\n")
+        for text, a, b in rows:
+            f.write('"%s" %s %s\n' % (text, a, b))
+    stem = os.path.join(results, "placement")
+    gnuplot(stem + ".gp", terminal() +
+            'set output "%s.png"\n' % stem +
+            'set title "p50 latency, 2 processes: spread over the CPUs vs all on CPU 0"\n'
+            'set ylabel "microseconds"\nset style data histograms\n'
+            "set style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
+            "set boxwidth 0.9\nset grid ytics\nset key top left\nset yrange [0:*]\n"
+            "set xtics rotate by 20 right scale 0\nset bmargin 7\n"
+            'plot "%s" using 2:xtic(1) title "spread (the default)", '
+            '"" using 3 title "one CPU (--cpus 0)"\n' % dat)
+    return [stem + ".png"]
+
+
 def load(path):
     try:
         with open(path) as f:
@@ -136,6 +181,9 @@ def main():
     scale = load(os.path.join(results, "scale.json"))
     if scale:
         written += plot_scale(results, scale)
+    one_cpu = load(os.path.join(results, "dds_latency_one_cpu.json"))
+    if latency and one_cpu:
+        written += plot_placement(results, latency, one_cpu)
     for path in written:
         print(path)
     return 0

@@ -12,7 +12,8 @@
 #                        with ratios; dds_latency_samples.json its raw samples
 #   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
 #   dds_latency_one_cpu.json  the same with every process on one CPU (--cpus 0): the
-#                        hand-offs without the wake-up of another (halted) vCPU
+#                        hand-offs without the wake-up of another (halted) vCPU; placement.png
+#                        compares the p50s of both passes
 #   security.json        mtc-bench-security: start-up and handshake, secured vs unsecured
 #   latency_cdf_shm_udp.png, latency_cdf_udp_loopback.png   latency CDFs per transport
 #   scale.json, scaling.png   mtc-bench-scale: 1/10/100 concurrent pairs (closed loop, then
@@ -52,7 +53,7 @@ mkdir -p "$out"
 # Results of an earlier run must not pass for this one's.
 rm -f "$out"/{wakeup,core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
   "$out"/dds_latency_one_cpu.json \
-  "$out"/{security,scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling}.png "$out"/cdf_*.dat
+  "$out"/{security,scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling,placement}.png "$out"/cdf_*.dat
 failed=()
 load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 
