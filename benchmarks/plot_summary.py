@@ -2,8 +2,9 @@
 """Draws the plots of benchmarks/run.sh with gnuplot: the latency CDFs per
 transport (from mtc-bench-dds-latency --samples-out), the scaling curve
 (from mtc-bench-scale) and the same latencies spread over the machine's
-CPUs and on one CPU (placement.png, from both dds_latency passes). Standard library only; prints the files it wrote and
-skips (with a note) what it has no data or no gnuplot for.
+CPUs and on one CPU (placement.png, from both dds_latency passes). Standard
+library only; prints the files it wrote and skips (with a note) what it has
+no data or no gnuplot for.
 
 Usage: plot_summary.py RESULTS_DIR
 """
@@ -148,13 +149,13 @@ def plot_placement(results, spread, one_cpu):
     stem = os.path.join(results, "placement")
     gnuplot(stem + ".gp", terminal() +
             'set output "%s.png"\n' % stem +
-            'set title "p50 latency, 2 processes: spread over the CPUs vs all on CPU 0"\n'
+            'set title "p50 latency, 2 processes: spread over the CPUs vs all on one CPU"\n'
             'set ylabel "microseconds"\nset style data histograms\n'
             "set style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
             "set boxwidth 0.9\nset grid ytics\nset key top left\nset yrange [0:*]\n"
             "set xtics rotate by 20 right scale 0\nset bmargin 7\n"
             'plot "%s" using 2:xtic(1) title "spread (the default)", '
-            '"" using 3 title "one CPU (--cpus 0)"\n' % dat)
+            '"" using 3 title "one CPU (--cpus)"\n' % dat)
     return [stem + ".png"]
 
 

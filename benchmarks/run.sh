@@ -11,7 +11,7 @@
 #                        Cyclone round trips beside the mtc transition and handshake,
 #                        with ratios; dds_latency_samples.json its raw samples
 #   dds_latency.png      its plot (gnuplot; an SVG if gnuplot is missing)
-#   dds_latency_one_cpu.json  the same with every process on one CPU (--cpus 0): the
+#   dds_latency_one_cpu.json  the same with every process on one CPU (--cpus N): the
 #                        hand-offs without the wake-up of another (halted) vCPU; placement.png
 #                        compares the p50s of both passes
 #   security.json        mtc-bench-security: start-up and handshake, secured vs unsecured
@@ -132,16 +132,18 @@ if [ -x "$bin/mtc-bench-dds-latency" ]; then
     python3 "$root/benchmarks/dds/plot_latency.py" "$out/dds_latency.json" "$out/dds_latency" ||
       failed+=("dds plot")
   fi
-  # Again with every process on CPU 0 (the forked peers and ddsperf inherit
+  # Again with every process on one CPU (the forked peers and ddsperf inherit
   # the mask): what the same code costs when no hand-off has to wake the
   # other vCPU. The default and inline stepping, 1,000 round trips a series.
-  one_cpu_args=(--out "$out/dds_latency_one_cpu.json" --cpus 0 --step-modes both)
+  # The first CPU this run may use: not always 0 in a container's cpuset.
+  first_cpu="$(python3 -c 'import os; print(min(os.sched_getaffinity(0)))')"
+  one_cpu_args=(--out "$out/dds_latency_one_cpu.json" --cpus "$first_cpu" --step-modes both)
   if [ "$quick" = 1 ]; then
     one_cpu_args+=(--samples 100 --warmup 50 --handshakes 30 --rounds 1 --cyclone-seconds 1)
   else
     one_cpu_args+=(--samples 1000)
   fi
-  run_one "mtc-bench-dds-latency --cpus 0" "$bin/mtc-bench-dds-latency" "${one_cpu_args[@]}" >/dev/null
+  run_one "mtc-bench-dds-latency --cpus $first_cpu" "$bin/mtc-bench-dds-latency" "${one_cpu_args[@]}" >/dev/null
 else
   note "mtc-bench-dds-latency not built, skipped"
 fi
