@@ -46,10 +46,13 @@ def terminal():
     return "set terminal png size 1100,650\n"
 
 
-def gnuplot(script_path, script):
-    with open(script_path, "w") as f:
-        f.write(script)
-    subprocess.run(["gnuplot", script_path], check=True)
+def draw(stem, title, body):
+    """Writes STEM.gp (terminal, output STEM.png, title, then `body`), runs
+    gnuplot on it and returns the PNG's path."""
+    with open(stem + ".gp", "w") as f:
+        f.write(terminal() + 'set output "%s.png"\nset title "%s"\n' % (stem, title) + body)
+    subprocess.run(["gnuplot", stem + ".gp"], check=True)
+    return stem + ".png"
 
 
 def plot_cdfs(results, samples, cyclone):
@@ -75,13 +78,10 @@ def plot_cdfs(results, samples, cyclone):
             plots.append('"%s" using 1:2 with linespoints pt 7 title '
                          '"Cyclone RTT (ddsperf p50/p90/p99)"' % dat)
         stem = os.path.join(results, "latency_cdf_%s" % transport)
-        gnuplot(stem + ".gp", terminal() +
-                'set output "%s.png"\n' % stem +
-                'set title "Latency CDF, %s, one run (x log scale)"\n' % title +
-                'set xlabel "microseconds"\nset ylabel "fraction of samples"\n'
-                "set logscale x\nset grid\nset key bottom right\nset yrange [0:1]\n"
-                "plot " + ", ".join(plots) + "\n")
-        written.append(stem + ".png")
+        written.append(draw(stem, "Latency CDF, %s, one run (x log scale)" % title,
+                            'set xlabel "microseconds"\nset ylabel "fraction of samples"\n'
+                            "set logscale x\nset grid\nset key bottom right\n"
+                            "set yrange [0:1]\nplot " + ", ".join(plots) + "\n"))
     return written
 
 
@@ -100,19 +100,16 @@ def plot_scale(results, scale):
     paced_plot = (', "%s" using 1:5 axes x1y2 with linespoints lw 2 dt 3 '
                   'title "p99 paced at %g/s (ms)"' % (dat, rate)) if rate else ""
     stem = os.path.join(results, "scaling")
-    gnuplot(stem + ".gp", terminal() +
-            'set output "%s.png"\n' % stem +
-            'set title "Concurrent interface pairs between two processes (SHM+UDP)"\n'
-            'set xlabel "interface pairs handshaking at once"\nset logscale x\n'
-            'set ylabel "handshakes per second"\nset y2label "latency (ms, log scale)"\n'
-            "set ytics nomirror\nset y2tics\nset grid\nset key top left\n"
-            "set yrange [0:*]\nset logscale y2\n"
-            'plot "%s" using 1:2 with linespoints lw 2 pt 7 title "handshakes/s", '
-            '"%s" using 1:3 axes x1y2 with linespoints lw 2 title "p50 (ms)", '
-            '"%s" using 1:4 axes x1y2 with linespoints lw 2 title "p99 (ms)"%s, '
-            '5000 with lines dt 2 title "target at 100 pairs: 5,000/s"\n'
-            % (dat, dat, dat, paced_plot))
-    return [stem + ".png"]
+    return [draw(stem, "Concurrent interface pairs between two processes (SHM+UDP)",
+                 'set xlabel "interface pairs handshaking at once"\nset logscale x\n'
+                 'set ylabel "handshakes per second"\nset y2label "latency (ms, log scale)"\n'
+                 "set ytics nomirror\nset y2tics\nset grid\nset key top left\n"
+                 "set yrange [0:*]\nset logscale y2\n"
+                 'plot "%s" using 1:2 with linespoints lw 2 pt 7 title "handshakes/s", '
+                 '"%s" using 1:3 axes x1y2 with linespoints lw 2 title "p50 (ms)", '
+                 '"%s" using 1:4 axes x1y2 with linespoints lw 2 title "p99 (ms)"%s, '
+                 '5000 with lines dt 2 title "target at 100 pairs: 5,000/s"\n'
+                 % (dat, dat, dat, paced_plot))]
 
 
 # placement.png: (series in dds_latency*.json, label); the Cyclone round trip
@@ -147,16 +144,13 @@ def plot_placement(results, spread, one_cpu):
         for text, a, b in rows:
             f.write('"%s" %s %s\n' % (text, a, b))
     stem = os.path.join(results, "placement")
-    gnuplot(stem + ".gp", terminal() +
-            'set output "%s.png"\n' % stem +
-            'set title "p50 latency, 2 processes: spread over the CPUs vs all on one CPU"\n'
-            'set ylabel "microseconds"\nset style data histograms\n'
-            "set style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
-            "set boxwidth 0.9\nset grid ytics\nset key top left\nset yrange [0:*]\n"
-            "set xtics rotate by 20 right scale 0\nset bmargin 7\n"
-            'plot "%s" using 2:xtic(1) title "spread (the default)", '
-            '"" using 3 title "one CPU (--cpus)"\n' % dat)
-    return [stem + ".png"]
+    return [draw(stem, "p50 latency, 2 processes: spread over the CPUs vs all on one CPU",
+                 'set ylabel "microseconds"\nset style data histograms\n'
+                 "set style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
+                 "set boxwidth 0.9\nset grid ytics\nset key top left\nset yrange [0:*]\n"
+                 "set xtics rotate by 20 right scale 0\nset bmargin 7\n"
+                 'plot "%s" using 2:xtic(1) title "spread (the default)", '
+                 '"" using 3 title "one CPU (--cpus)"\n' % dat)]
 
 
 def load(path):

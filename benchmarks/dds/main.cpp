@@ -21,6 +21,7 @@
 #include "equipment_latency.hpp"
 #include "mtc/bench/cli.hpp"
 #include "mtc/bench/cpus.hpp"
+#include "mtc/bench/json_out.hpp"
 #include "mtc/bench/proc_cpu.hpp"
 #include "ratios.hpp"
 #include "raw_pingpong.hpp"
@@ -328,17 +329,7 @@ int run(const Options& o) {
     std::cerr << "cannot write " << o.samples_out << "\n";
     return 1;
   }
-  const std::string json = to_json(o, all, context);
-  std::cout << json;
-  if (!o.out.empty()) {
-    std::ofstream file(o.out);
-    file << json;
-    if (!file) {
-      std::cerr << "cannot write " << o.out << "\n";
-      return 1;
-    }
-  }
-  return 0;
+  return mtc::bench::emit_json(to_json(o, all, context), o.out, "mtc-bench-dds-latency");
 }
 
 }  // namespace

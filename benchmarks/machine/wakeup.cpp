@@ -19,7 +19,6 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <optional>
@@ -29,6 +28,7 @@
 #include <vector>
 
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/json_out.hpp"
 
 namespace {
 
@@ -184,15 +184,5 @@ int main(int argc, char** argv) {
     }
   }
   if (cpus.size() < 2) std::cerr << "mtc-bench-wakeup: one CPU only, no other_cpu series\n";
-  const std::string json = to_json(results, cpus, o.samples);
-  std::cout << json;
-  if (!o.out.empty()) {
-    std::ofstream file(o.out);
-    file << json;
-    if (!file) {
-      std::cerr << "mtc-bench-wakeup: cannot write " << o.out << "\n";
-      return 1;
-    }
-  }
-  return 0;
+  return mtc::bench::emit_json(to_json(results, cpus, o.samples), o.out, "mtc-bench-wakeup");
 }

@@ -27,7 +27,6 @@
 
 #include <array>
 #include <chrono>
-#include <fstream>
 #include <future>
 #include <iostream>
 #include <memory>
@@ -40,6 +39,7 @@
 #include "../dds/latency_stats.hpp"
 #include "load.hpp"
 #include "mtc/bench/cli.hpp"
+#include "mtc/bench/json_out.hpp"
 #include "mtc/bench/proc_cpu.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "pairs.hpp"
@@ -411,16 +411,7 @@ int run(const Options& o) {
     json << "null";
   }
   json << "}\n";
-  std::cout << json.str();
-  if (!o.out.empty()) {
-    std::ofstream file(o.out);
-    file << json.str();
-    if (!file) {
-      std::cerr << "cannot write " << o.out << "\n";
-      return 1;
-    }
-  }
-  return 0;
+  return mtc::bench::emit_json(json.str(), o.out, "mtc-bench-scale");
 }
 
 }  // namespace
