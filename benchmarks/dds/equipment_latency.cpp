@@ -217,10 +217,7 @@ void add_transitions(Probe& probe, Series& transition) {
   for (double v : probe.take_transitions()) {
     transition.samples_us.push_back(v);
   }
-  for (auto& [leg, samples] : probe.take_legs()) {
-    auto& into = transition.legs_us[leg];
-    into.insert(into.end(), samples.begin(), samples.end());
-  }
+  append_legs(transition, probe.take_legs());
 }
 
 // Runs `handshakes` (after a warm-up) against a responder that is already

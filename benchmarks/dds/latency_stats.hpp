@@ -59,6 +59,14 @@ inline Summary summarize(std::vector<double> samples) {
   return s;
 }
 
+// Appends `legs` (leg name -> samples) to a series' legs.
+inline void append_legs(Series& into, const std::map<std::string, std::vector<double>>& legs) {
+  for (const auto& [leg, samples] : legs) {
+    auto& to = into.legs_us[leg];
+    to.insert(to.end(), samples.begin(), samples.end());
+  }
+}
+
 inline double to_us(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double, std::micro>(d).count();
 }

@@ -295,10 +295,7 @@ void pool(Series& into, const Series& more) {
         (into.cpu_us_per_op * before + more.cpu_us_per_op * added) / (before + added);
   }
   into.samples_us.insert(into.samples_us.end(), more.samples_us.begin(), more.samples_us.end());
-  for (const auto& [leg, samples] : more.legs_us) {
-    auto& legs = into.legs_us[leg];
-    legs.insert(legs.end(), samples.begin(), samples.end());
-  }
+  mtc::bench::append_legs(into, more.legs_us);
   into.timeouts += more.timeouts;
 }
 

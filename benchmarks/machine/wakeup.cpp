@@ -15,7 +15,6 @@
 #include <pthread.h>
 #include <sched.h>
 
-#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -27,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "../dds/latency_stats.hpp"
 #include "mtc/bench/cli.hpp"
 #include "mtc/bench/json_out.hpp"
 
@@ -113,13 +113,6 @@ Result measure(int waker_cpu, int wakee_cpu, int gap_us, int samples) {
   return r;
 }
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(p * static_cast<double>(v.size()) + 0.999999);
-  return v[std::clamp<std::size_t>(rank, 1, v.size()) - 1];
-}
-
 std::string to_json(const std::vector<Result>& results, const std::vector<int>& cpus, int samples) {
   std::ostringstream json;
   json << "{\"benchmark\":\"wakeup\",\"unit\":\"us\",\"samples\":" << samples << ",\"cpus\":[";
@@ -128,12 +121,13 @@ std::string to_json(const std::vector<Result>& results, const std::vector<int>& 
   char buf[320];
   for (std::size_t i = 0; i < results.size(); ++i) {
     const auto& r = results[i];
+    const auto wake = mtc::bench::summarize(r.wake_us);
+    const auto notify = mtc::bench::summarize(r.notify_us);
     std::snprintf(buf, sizeof buf,
                   "%s\n {\"placement\":\"%s\",\"gap_us\":%d,\"wake_p50\":%.1f,\"wake_p99\":%.1f,"
                   "\"notify_p50\":%.2f,\"notify_p99\":%.2f}",
-                  i == 0 ? "" : ",", r.placement.c_str(), r.gap_us, percentile(r.wake_us, 0.5),
-                  percentile(r.wake_us, 0.99), percentile(r.notify_us, 0.5),
-                  percentile(r.notify_us, 0.99));
+                  i == 0 ? "" : ",", r.placement.c_str(), r.gap_us, wake.p50, wake.p99, notify.p50,
+                  notify.p99);
     json << buf;
   }
   json << "\n]}\n";
@@ -178,9 +172,10 @@ int main(int argc, char** argv) {
     results.push_back(measure(cpus[0], cpus[0], gap, o.samples));
     if (cpus.size() > 1) results.push_back(measure(cpus[0], cpus[1], gap, o.samples));
     for (auto it = results.end() - (cpus.size() > 1 ? 2 : 1); it != results.end(); ++it) {
+      const auto wake = mtc::bench::summarize(it->wake_us);
       std::fprintf(stderr, "%-9s gap %4d us: wake p50 %6.1f p99 %6.1f us, notify p50 %5.2f us\n",
-                   it->placement.c_str(), gap, percentile(it->wake_us, 0.5),
-                   percentile(it->wake_us, 0.99), percentile(it->notify_us, 0.5));
+                   it->placement.c_str(), gap, wake.p50, wake.p99,
+                   mtc::bench::summarize(it->notify_us).p50);
     }
   }
   if (cpus.size() < 2) std::cerr << "mtc-bench-wakeup: one CPU only, no other_cpu series\n";

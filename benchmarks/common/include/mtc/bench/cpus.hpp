@@ -1,7 +1,7 @@
 // Where a benchmark's processes run: `--cpus LIST` confines the benchmark,
 // and every process it starts afterwards (they inherit the mask), to some
 // CPUs. On a VM guest whose idle vCPUs halt, a thread woken on the other
-// vCPU starts 20-30 us later than one woken on the same vCPU
+// vCPU started 15-46 us (p50) after the notify, one on the same vCPU 2-6 us
 // (mtc-bench-wakeup; docs/benchmarks.md, "Hand-offs between vCPUs"), and a
 // handshake is a chain of such hand-offs: placement is then a figure's
 // first condition, and the JSON says which one it was taken under.
