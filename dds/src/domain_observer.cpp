@@ -12,7 +12,6 @@
 #include "device_owners.hpp"
 #include "executor.hpp"
 #include "left_incarnations.hpp"
-#include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/dds/error.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
@@ -23,7 +22,6 @@
 
 namespace mtc::dds {
 
-namespace topics = detail::topics;
 using detail::Handle;
 using detail::TopicKind;
 
@@ -176,12 +174,12 @@ struct DomainObserver::Impl {
       left(e);
       return;
     }
-    auto& group = peer_groups.on_heartbeat(e.writer, h);
+    auto& group = peer_groups.on_heartbeat(e.writer, h, e.heard_ns);
     incarnation[h.device_uuid] = detail::participant_of(e.writer);
     const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
     silent_groups.erase(key);
     const auto repair = std::chrono::nanoseconds(std::chrono::milliseconds(h.lease_ms)).count();
-    if (auto report = peer_groups.behind_report(key, h.reception_time_ns, repair)) {
+    if (auto report = peer_groups.behind_report(key, e.heard_ns, repair)) {
       std::cerr << "mtc::dds::DomainObserver: " << *report << '\n';
     }
     if (peer_groups.in_step(group)) recovered(key);
@@ -332,7 +330,7 @@ struct DomainObserver::Impl {
     const auto* group = peer_groups.find(key);
     if (group == nullptr) return false;
     const auto [lease, period] = timing_of(*group);
-    return detail::silent_for_a_lease(group->last_heartbeat_ns, topics::realtime_ns(), lease,
+    return detail::silent_for_a_lease(group->last_heartbeat_steady_ns, detail::steady_ns(), lease,
                                       period);
   }
 
@@ -363,25 +361,27 @@ struct DomainObserver::Impl {
   }
 
   detail::Executor::Clock::time_point next_silence_check() const {
-    auto wake = detail::Executor::Clock::time_point::max();
-    const auto steady_now = detail::Executor::Clock::now();
-    const auto real_now = topics::realtime_ns();
+    using Clock = detail::Executor::Clock;
+    auto wake = Clock::time_point::max();
     peer_groups.for_each([&](const detail::PeerGroupKey& key, const detail::PeerGroup& group) {
       if (!group.heard() || silent_groups.count(key) != 0) return;
       const auto [lease, period] = timing_of(group);
-      const auto due = group.last_heartbeat_ns + backstop(lease, period).count();
-      wake = std::min(wake, steady_now + std::chrono::nanoseconds(due - real_now));
+      const auto due =
+          std::chrono::nanoseconds(group.last_heartbeat_steady_ns) + backstop(lease, period);
+      wake = std::min(wake, Clock::time_point(std::chrono::duration_cast<Clock::duration>(due)));
     });
     return wake;
   }
 
   void check_silence() {
-    const auto now = topics::realtime_ns();
+    const auto now = detail::steady_ns();
     std::vector<detail::PeerGroupKey> silent;
     peer_groups.for_each([&](const detail::PeerGroupKey& key, const detail::PeerGroup& group) {
       if (!group.heard() || silent_groups.count(key) != 0) return;
       const auto [lease, period] = timing_of(group);
-      if (now - group.last_heartbeat_ns >= backstop(lease, period).count()) silent.push_back(key);
+      if (now - group.last_heartbeat_steady_ns >= backstop(lease, period).count()) {
+        silent.push_back(key);
+      }
     });
     for (const auto& key : silent) {
       silent_groups.insert(key);

@@ -103,10 +103,10 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     // Not an answer to us: the counterpart states its values again for us
     // once it has taken us for its counterpart (note_counterpart_value).
     if (written_for_predecessor(*itf, v, e.paired)) continue;
-    take_counterpart_value(*itf, e.writer, v, missed_change);
+    take_counterpart_value(*itf, e.writer, v, e.heard_ns, missed_change);
   }
   // After the interfaces: a pairing above replays what was seen before.
-  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v, e.paired};
+  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v, e.paired, e.heard_ns};
 }
 
 // Remembers a counterpart value (the last of each item is fed again after a
@@ -116,7 +116,7 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
 // predecessor, which it does not take for an answer (scenario 6: it must
 // not trust a READY written before we knew of it).
 void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
-                                           const ObservedValue& v) {
+                                           const ObservedValue& v, std::int64_t heard_ns) {
   const auto key = detail::PeerGroups::key_of(writer, v.device_uuid, v.heartbeat_group);
   const bool new_incarnation = !itf.cp_group || itf.cp_group->participant != key.participant;
   // Its predecessor is gone, whether or not its silence was noticed yet (a
@@ -131,7 +131,7 @@ void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Han
   if (new_incarnation && started) publish_pairing(itf);
   itf.cp_values[v.data_item_id] = v;
   itf.cp_stale.erase(v.data_item_id);
-  itf.last_heard_ns = std::max(itf.last_heard_ns, v.reception_time_ns);
+  itf.last_heard_steady_ns = std::max(itf.last_heard_steady_ns, heard_ns);
 }
 
 // Hands one counterpart value to the application and, for an interaction
@@ -176,16 +176,16 @@ void EquipmentImpl::on_heartbeat(std::size_t group, detail::HeartbeatEvent& e) {
     on_gone(group, TopicKind::Heartbeat, e.instance, Gone::Leaving, e.writer);
     return;
   }
-  auto& pg = peer_groups.on_heartbeat(e.writer, h);
+  auto& pg = peer_groups.on_heartbeat(e.writer, h, e.heard_ns);
   const auto key = detail::PeerGroups::key_of(e.writer, h.device_uuid, h.group);
   const auto& timing = groups[group]->timing;
-  if (auto report = peer_groups.behind_report(key, h.reception_time_ns,
+  if (auto report = peer_groups.behind_report(key, e.heard_ns,
                                               std::chrono::nanoseconds(timing.lease()).count())) {
     diagnostic(*report);
   }
   for (auto& itf : interfaces) {
     if (itf->group != group || !itf->cp_group || !(*itf->cp_group == key)) continue;
-    itf->last_heard_ns = std::max(itf->last_heard_ns, h.reception_time_ns);
+    itf->last_heard_steady_ns = std::max(itf->last_heard_steady_ns, e.heard_ns);
     if (!peer_groups.in_step(pg)) continue;
     // A counterpart that declared its interface UNAVAILABLE stays lost
     // however well it heartbeats.
@@ -258,7 +258,7 @@ void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
 // stays up.
 bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
                                    const std::string& what) {
-  const auto now = topics::realtime_ns();
+  const auto now = detail::steady_ns();
   if (detail::silent_for_a_lease(last_ns, now, groups[group]->timing)) return false;
   diagnostic("ignored " + what + " after only " + std::to_string((now - last_ns) / 1000000) +
              " ms of silence");
@@ -272,7 +272,8 @@ bool EquipmentImpl::recently_heard(std::size_t group, std::int64_t last_ns,
 // ProcessFaults on Cyclone: a second loss right after the recovery). A writer
 // that really left is reported unmatched, and that is not checked.
 bool EquipmentImpl::heartbeat_cue_only(const InterfaceSlot& itf, const std::string& device) {
-  return recently_heard(itf.group, itf.last_heard_ns, "heartbeat without writers of " + device);
+  return recently_heard(itf.group, itf.last_heard_steady_ns,
+                        "heartbeat without writers of " + device);
 }
 
 // A heartbeat DEADLINE miss is a cue to check, not a verdict on the instance
@@ -280,13 +281,15 @@ bool EquipmentImpl::heartbeat_cue_only(const InterfaceSlot& itf, const std::stri
 // is lost when nothing of its counterpart (heartbeat or value) was heard for
 // about a lease.
 void EquipmentImpl::on_deadline_missed(std::size_t group) {
-  const auto now = topics::realtime_ns();
+  const auto now = detail::steady_ns();
   SilentOwners silent;
   for (auto& itf : interfaces) {
     if (itf->group != group || itf->link.load() != LinkState::Up) continue;
-    if (!detail::silent_for_a_lease(itf->last_heard_ns, now, groups[group]->timing)) continue;
+    if (!detail::silent_for_a_lease(itf->last_heard_steady_ns, now, groups[group]->timing)) {
+      continue;
+    }
     link_lost(*itf, "deadline missed: nothing heard for " +
-                        std::to_string((now - itf->last_heard_ns) / 1000000) + " ms");
+                        std::to_string((now - itf->last_heard_steady_ns) / 1000000) + " ms");
     if (itf->cp_group) silent.emplace_back(group, *itf->cp_group);
   }
   for (const auto& [g, key] : silent) owner_silent(g, key, false);  // see SilentOwners
@@ -307,22 +310,22 @@ std::chrono::nanoseconds backstop_silence(const qos::Timing& timing) {
 
 SteadyClock::time_point EquipmentImpl::next_silence_check() const {
   auto wake = SteadyClock::time_point::max();
-  const auto steady_now = SteadyClock::now();
-  const auto real_now = topics::realtime_ns();
   for (const auto& itf : interfaces) {
-    if (itf->link.load() != LinkState::Up || itf->last_heard_ns == 0) continue;
-    const auto due = itf->last_heard_ns + backstop_silence(groups[itf->group]->timing).count();
-    wake = std::min(wake, steady_now + std::chrono::nanoseconds(due - real_now));
+    if (itf->link.load() != LinkState::Up || itf->last_heard_steady_ns == 0) continue;
+    const auto due = std::chrono::nanoseconds(itf->last_heard_steady_ns) +
+                     backstop_silence(groups[itf->group]->timing);
+    wake = std::min(
+        wake, SteadyClock::time_point(std::chrono::duration_cast<SteadyClock::duration>(due)));
   }
   return wake;
 }
 
 void EquipmentImpl::check_silence() {
-  const auto now = topics::realtime_ns();
+  const auto now = detail::steady_ns();
   SilentOwners silent;
   for (auto& itf : interfaces) {
-    if (itf->link.load() != LinkState::Up || itf->last_heard_ns == 0) continue;
-    const auto silence = std::chrono::nanoseconds(now - itf->last_heard_ns);
+    if (itf->link.load() != LinkState::Up || itf->last_heard_steady_ns == 0) continue;
+    const auto silence = std::chrono::nanoseconds(now - itf->last_heard_steady_ns);
     if (silence < backstop_silence(groups[itf->group]->timing)) continue;
     link_lost(*itf, "nothing heard for " + std::to_string(silence.count() / 1000000) +
                         " ms (no DDS loss cue came)");
@@ -424,8 +427,8 @@ void EquipmentImpl::on_heartbeat_writer_lost(std::size_t group, const detail::Pe
   for (auto& itf : interfaces) {
     if (itf->group != group || !itf->cp_group || !(*itf->cp_group == key)) continue;
     if (itf->link.load() != LinkState::Up) continue;
-    if (check_silence &&
-        recently_heard(group, itf->last_heard_ns, std::string(cause) + " of " + key.device)) {
+    if (check_silence && recently_heard(group, itf->last_heard_steady_ns,
+                                        std::string(cause) + " of " + key.device)) {
       continue;
     }
     link_lost(*itf, std::string("heartbeat ") + cause);
@@ -446,7 +449,8 @@ void EquipmentImpl::owner_silent(std::size_t group, const detail::PeerGroupKey& 
     const auto& h = pg->newest;
     const auto lease = h.lease_ms != 0 ? milliseconds(h.lease_ms) : timing.lease();
     const auto period = pg->period_or(timing.heartbeat);
-    if (!detail::silent_for_a_lease(pg->last_heartbeat_ns, topics::realtime_ns(), lease, period)) {
+    if (!detail::silent_for_a_lease(pg->last_heartbeat_steady_ns, detail::steady_ns(), lease,
+                                    period)) {
       return;
     }
   }
@@ -479,8 +483,8 @@ void EquipmentImpl::set_link(InterfaceSlot& itf, LinkState next, const std::stri
   ev.current = next;
   ev.cause = cause;
   ev.time_ns = topics::realtime_ns();
-  if (next == LinkState::Lost && itf.last_heard_ns != 0) {
-    ev.silence = std::chrono::nanoseconds(ev.time_ns - itf.last_heard_ns);
+  if (next == LinkState::Lost && itf.last_heard_steady_ns != 0) {
+    ev.silence = std::chrono::nanoseconds(detail::steady_ns() - itf.last_heard_steady_ns);
   }
   if (callbacks.on_link) report("on_link", [this, ev] { callbacks.on_link(ev); });
 }

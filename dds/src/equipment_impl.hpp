@@ -141,7 +141,8 @@ struct InterfaceSlot {
   // machines have not been given again since the link was lost.
   std::map<std::string, ObservedValue> cp_values;
   std::set<std::string> cp_stale;
-  std::int64_t last_heard_ns = 0;  // newest value or heartbeat of the counterpart
+  // When the newest value or heartbeat of the counterpart came (steady_ns).
+  std::int64_t last_heard_steady_ns = 0;
   std::atomic<LinkState> link{LinkState::Unpaired};
   // Pairing by rule (no counterpart device configured): every complementary
   // interface announced (device uuid, interface id), and when the election
@@ -195,6 +196,7 @@ struct EquipmentImpl {
     detail::Handle writer{};
     ObservedValue value;
     detail::ParticipantKey paired{};
+    std::int64_t heard_ns = 0;  // steady_ns
   };
   std::map<std::pair<std::string, std::string>, SeenValue> seen_values;
 
@@ -279,8 +281,9 @@ struct EquipmentImpl {
   // --- DDS events (equipment_events.cpp) ---
   void on_event(std::size_t group, detail::TapEvent& event);
   void on_value(std::size_t group, detail::ValueEvent& e);
+  // heard_ns: when the value came (steady_ns).
   void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
-                              const ObservedValue& v);
+                              const ObservedValue& v, std::int64_t heard_ns);
   void deliver(InterfaceSlot& itf, const ObservedValue& v, bool missed_change);
   void on_heartbeat(std::size_t group, detail::HeartbeatEvent& e);
   void redeliver_stale(InterfaceSlot& itf);
@@ -324,7 +327,7 @@ struct EquipmentImpl {
   // --- pairing rule and exclusion (equipment_pairing.cpp) ---
   // A counterpart value for `itf`: link state, exclusion, delivery.
   void take_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
-                              const ObservedValue& v, bool missed_change);
+                              const ObservedValue& v, std::int64_t heard_ns, bool missed_change);
   void add_candidate(InterfaceSlot& itf, const std::string& device,
                      const std::string& interface_id);
   void elect_due(SteadyClock::time_point now);

@@ -106,17 +106,18 @@ void EquipmentImpl::replay_seen_values(InterfaceSlot& itf) {
   for (const auto* s : known) {
     if (s->value.state.interface_state() == core::InterfaceState::Unavailable) continue;
     if (written_for_predecessor(itf, s->value, s->paired)) continue;
-    take_counterpart_value(itf, s->writer, s->value, false);
+    take_counterpart_value(itf, s->writer, s->value, s->heard_ns, false);
   }
 }
 
 void EquipmentImpl::take_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
-                                           const ObservedValue& v, bool missed_change) {
-  note_counterpart_value(itf, writer, v);
+                                           const ObservedValue& v, std::int64_t heard_ns,
+                                           bool missed_change) {
+  note_counterpart_value(itf, writer, v, heard_ns);
   // A value replayed after the election was received before it: the
   // heartbeats heard since then say the counterpart is alive now.
   if (const auto* pg = peer_groups.find(*itf.cp_group)) {
-    itf.last_heard_ns = std::max(itf.last_heard_ns, pg->last_heartbeat_ns);
+    itf.last_heard_steady_ns = std::max(itf.last_heard_steady_ns, pg->last_heartbeat_steady_ns);
   }
   if (v.state.interface_state() == core::InterfaceState::Unavailable) {
     if (callbacks.on_counterpart_value) {
@@ -221,7 +222,7 @@ void EquipmentImpl::unpair(InterfaceSlot& itf, const std::string& cause) {
   itf.cp_group.reset();
   itf.cp_values.clear();
   itf.cp_stale.clear();
-  itf.last_heard_ns = 0;
+  itf.last_heard_steady_ns = 0;
   for (auto index : itf.services) slots[index]->addressed = false;
   set_link(itf, LinkState::Unpaired, cause);
   publish_pairing(itf);

@@ -57,11 +57,12 @@ PeerGroupKey PeerGroups::on_value(const Handle& writer, TopicKind topic,
   return key;
 }
 
-PeerGroup& PeerGroups::on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat) {
+PeerGroup& PeerGroups::on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat,
+                                    std::int64_t heard_steady_ns) {
   const auto key = key_of(writer, heartbeat.device_uuid, heartbeat.group);
   heartbeat_writers_[writer] = key;
   auto& g = groups_[key];
-  g.last_heartbeat_ns = heartbeat.reception_time_ns;
+  g.last_heartbeat_steady_ns = heard_steady_ns;
   g.newest = heartbeat;
   g.announced = announced_by(heartbeat);
   g.announced_interactions = interactions_announced_by(heartbeat);

@@ -48,16 +48,16 @@ constexpr bool says_leaving(const ObservedHeartbeat& h) noexcept {
 }
 
 struct PeerGroup {
-  std::int64_t last_heartbeat_ns = 0;           // reception of the newest heartbeat (0: none yet)
-  ObservedHeartbeat newest;                     // the newest heartbeat itself
-  StateChanges announced{};                     // change numbers it announced
-  StateChanges received{};                      // newest change number received, per state topic
+  std::int64_t last_heartbeat_steady_ns = 0;  // when the newest heartbeat came (steady_ns; 0: none)
+  ObservedHeartbeat newest;                   // the newest heartbeat itself
+  StateChanges announced{};                   // change numbers it announced
+  StateChanges received{};                    // newest change number received, per state topic
   InteractionChanges announced_interactions{};  // the same per interaction topic
   InteractionChanges received_interactions{};
-  std::int64_t behind_since_ns = 0;  // announced ahead of received since (0: in step)
+  std::int64_t behind_since_ns = 0;  // announced ahead of received since (steady_ns; 0: in step)
   bool behind_reported = false;
 
-  bool heard() const noexcept { return last_heartbeat_ns != 0; }
+  bool heard() const noexcept { return last_heartbeat_steady_ns != 0; }
   // The period its heartbeats announce; `own` until one was heard. Never 0:
   // a heartbeat with period 0 is a leave (says_leaving) and is not kept.
   std::chrono::milliseconds period_or(std::chrono::milliseconds own) const noexcept {
@@ -77,11 +77,13 @@ class PeerGroups {
 
   // A state sample from `writer` on state topic `topic`; returns its group.
   PeerGroupKey on_value(const Handle& writer, TopicKind topic, const ObservedValue& value);
-  // A heartbeat; returns its group's record (created on first sight).
-  PeerGroup& on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat);
+  // A heartbeat heard at `heard_steady_ns` (steady_ns); returns its group's
+  // record (created on first sight).
+  PeerGroup& on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat,
+                          std::int64_t heard_steady_ns);
   // A report once a group has stayed behind its heartbeats for longer than
   // `repair_ns` (a change announced but not received: lost, or stuck in
-  // repair); nullopt otherwise. Call after on_heartbeat.
+  // repair); nullopt otherwise. Call after on_heartbeat, with steady_ns().
   std::optional<std::string> behind_report(const PeerGroupKey& key, std::int64_t now_ns,
                                            std::int64_t repair_ns);
 

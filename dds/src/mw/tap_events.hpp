@@ -18,6 +18,17 @@
 
 namespace mtc::dds::detail {
 
+// Now on the steady clock, in ns: what every silence is measured with.
+// Never CLOCK_REALTIME, which steps under a running cell (NTP, an operator,
+// a VM restored from a snapshot): forward, every counterpart would seem
+// silent at once (a false loss on every link); back, a hung one would seem
+// to have been heard in the future (its loss hidden for the size of the step).
+inline std::int64_t steady_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
 struct ValueEvent {
   TopicKind topic{};
   Handle writer{};
@@ -26,11 +37,13 @@ struct ValueEvent {
   // Interaction values: the counterpart participant the writer was paired
   // with when it wrote the value (all zero: none, or another kind of item).
   ParticipantKey paired{};
+  std::int64_t heard_ns = steady_ns();  // taken by the listener (steady_ns)
 };
 struct HeartbeatEvent {
   Handle writer{};
   Handle instance{};
   ObservedHeartbeat heartbeat;
+  std::int64_t heard_ns = steady_ns();  // taken by the listener (steady_ns)
 };
 struct DeviceEvent {
   Handle writer{};
@@ -106,7 +119,7 @@ std::string interaction_topic_name(std::size_t index);
 std::string protocol_violation(const ProtocolViolationEvent& e);
 
 // The one rule that turns silence into a loss: a counterpart is lost once
-// nothing was heard from it (last_heard_ns, CLOCK_REALTIME; 0 = never) for a
+// nothing was heard from it (last_heard_ns, steady_ns(); 0 = never) for a
 // lease minus half a heartbeat. Every loss cue (a heartbeat's DEADLINE miss,
 // its writer's liveliness expiry) is checked against it, because a cue is
 // not a verdict: Fast DDS 2.9 keeps one deadline timer per reader and names

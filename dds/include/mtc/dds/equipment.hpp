@@ -181,7 +181,8 @@ struct LinkEvent {
   LinkState current = LinkState::Unpaired;
   std::string cause;         // "liveliness lost", "deadline missed", "disposed", ...
   std::int64_t time_ns = 0;  // CLOCK_REALTIME when the executor handled it
-  // For Lost: time since the last sample from the counterpart (detection time).
+  // For Lost: time since the last sample from the counterpart (detection
+  // time), on the steady clock: a step of the wall clock does not change it.
   std::chrono::nanoseconds silence{0};
 };
 
