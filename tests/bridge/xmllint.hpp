@@ -43,6 +43,7 @@ inline Lint xmllint(const std::string& body, const std::string& schema) {
   std::error_code ignored;
   fs::remove(doc, ignored);
   fs::remove(out, ignored);
+  fs::remove(dir, ignored);  // empty now: one per test process piled up in /tmp
   return lint;
 }
 
