@@ -28,15 +28,17 @@ def line_key(obj):
     name = obj.get("benchmark", "?")
     middleware = obj.get("middleware", "fastdds")
     inline = obj.get("inline_steps", False)
-    if middleware == "fastdds" and not inline:
+    dispatch = obj.get("observer_steps") == "dispatch"
+    if middleware == "fastdds" and not inline and not dispatch:
         return name
-    return "%s@%s%s" % (name, middleware, "+inline" if inline else "")
+    return "%s@%s%s%s" % (name, middleware, "+inline" if inline else "",
+                          "+dispatch" if dispatch else "")
 
 
 def load_json_lines(path):
     """bridge_http.json: one JSON object per line, keyed by "benchmark"; a
     benchmark run with other settings (middleware, inline steps) than its
-    defaults gets "@<middleware>[+inline]" after its name."""
+    defaults gets "@<middleware>[+inline][+dispatch]" after its name."""
     found = {}
     try:
         with open(path) as f:
@@ -202,9 +204,10 @@ def required(summary):
                    ((bridge.get("current") or {}).get("requests_per_second") or 0) > 0))
     checks.append(("bridge.dds_to_stream.from_transition_us",
                    (bridge.get("dds_to_stream") or {}).get("from_transition_us") is not None))
-    checks.append(("bridge.dds_to_stream_variants.fastdds+inline",
-                   ((bridge.get("dds_to_stream_variants") or {}).get("fastdds+inline") or {})
-                   .get("from_transition_us") is not None))
+    for variant in ("fastdds+inline", "fastdds+dispatch"):
+        checks.append(("bridge.dds_to_stream_variants." + variant,
+                       ((bridge.get("dds_to_stream_variants") or {}).get(variant) or {})
+                       .get("from_transition_us") is not None))
     fanout = bridge.get("fanout") or {}
     checks.append(("bridge.fanout.all_clients_us", fanout.get("all_clients_us") is not None))
     checks.append(("bridge.fanout.rss_kb", fanout.get("rss_kb") is not None))

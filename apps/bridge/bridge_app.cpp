@@ -78,7 +78,8 @@ void BridgeApp::run(std::ostream& log) {
       << (server_->is_https() ? "https://" : "http://") << (v6 ? "[" : "")
       << server_->bind_address() << (v6 ? "]" : "") << ":" << server_->port() << "/ (DDS domains "
       << domains.str() << " over " << dds::to_string(observers_.front()->middleware())
-      << (config_.observer.inline_steps ? ", inline steps" : "") << "; devices from "
+      << (config_.observer.inline_steps ? "" : ", values via the dispatch thread")
+      << "; devices from "
       << (config_.agent.devices_file.empty() ? std::string("DDS announcements")
                                              : config_.agent.devices_file)
       << (config_.observer.security_dir.empty()

@@ -286,7 +286,7 @@ const std::array<Setting, 32> kSettings{{
      [](const BridgeConfig& c) { return std::string(dds::to_string(c.observer.middleware)); }},
     {"InlineSteps", "--inline-steps",
      "yes: a DDS value is handed to the agent on the middleware's receive thread (one thread "
-     "hand-off less per change)",
+     "hand-off less per change); no: on the observer's dispatch thread",
      set_inline_steps,
      [](const BridgeConfig& c) { return std::string(c.observer.inline_steps ? "yes" : "no"); }},
     {"TlsCertificateChain", "--tls-certificate",

@@ -34,8 +34,15 @@ struct BridgeConfig {
   // MissedHeartbeats: the DDS heartbeat of the observed devices and how many
   // may be missed; their product is the liveliness lease the observer asks
   // for (it must cover the longest lease of any device). domain_id is set
-  // per entry of domain_ids.
-  dds::DomainObserverOptions observer;
+  // per entry of domain_ids. InlineSteps is on unless configured off: the
+  // bridge's callbacks are the agent's appends, which never block, so a
+  // value goes to the agent on the receive thread that read it, without a
+  // thread hand-off (docs/bridge.md).
+  dds::DomainObserverOptions observer = [] {
+    dds::DomainObserverOptions o;
+    o.inline_steps = true;
+    return o;
+  }();
   std::vector<int> domain_ids{0};  // DomainIds
   // ShdrAdapter (yes/no), ShdrPort, ShdrIp: the bridge as an SHDR adapter
   // for existing MTConnect agents; off unless one of them is given.

@@ -9,7 +9,7 @@
 // deliver locally, past its transports. DDS domain 110.
 //
 //   scripts/netns-run.sh build/benchmarks/mtc-bench-bridge-dds-stream [--samples N]
-//     [--middleware fastdds|cyclone] [--inline-steps]
+//     [--middleware fastdds|cyclone] [--inline-steps] [--observer-steps inline|dispatch]
 //   (--help lists the options with their defaults)
 //
 // Bar (docs/benchmarks.md): p50 < 200 us, p99 < 2 ms.
@@ -61,10 +61,13 @@ constexpr const char* kAbout =
     "clock, one host); 20 warm-up toggles are not counted. DDS domain 110 over the\n"
     "loopback transports: runs inside the loopback-only namespace (scripts/netns-run.sh).\n"
     "--middleware puts the device and the observer on one DDS implementation;\n"
-    "--inline-steps lets both step a received value on the middleware's thread\n"
-    "(EquipmentOptions/DomainObserverOptions::inline_steps, mtc-bridge's InlineSteps).\n"
+    "--inline-steps lets the device step a received value on the middleware's thread\n"
+    "(EquipmentOptions::inline_steps); --observer-steps says where the observer hands a\n"
+    "value to the agent: inline, on the middleware's thread (mtc-bridge's default,\n"
+    "InlineSteps = yes), or dispatch, on its own thread (InlineSteps = no).\n"
     "One JSON line on stdout:\n"
     "  {\"benchmark\":\"bridge_http_dds_stream_latency\",\"middleware\",\"inline_steps\",\n"
+    "   \"observer_steps\",\n"
     "   "
     "\"direct_stream_writes\",\"processes\":2,\"lost\",\"direct_parts\",\"from_transition_us\":{"
     "p50,p90,p99,max,mean},\n"
@@ -79,7 +82,8 @@ constexpr const char* kAbout =
 struct Setup {
   int samples = 1000;
   dds::Middleware middleware = dds::Middleware::FastDds;
-  bool inline_steps = false;
+  bool inline_steps = false;    // the device's
+  bool observer_inline = true;  // as mtc-bridge ships (InlineSteps = yes)
   int direct_stream_writes = static_cast<int>(bridge::ServerOptions{}.direct_stream_writes);
   int command_fd = -1;  // the device reads its toggles here ('r', 'n')
   bool device = false;
@@ -236,6 +240,7 @@ void print_result(const Setup& setup, const Latencies& m, std::uint64_t direct_p
   std::cout << "{\"benchmark\":\"bridge_http_dds_stream_latency\",\"transport\":\"loopback\","
             << "\"middleware\":\"" << dds::to_string(setup.middleware)
             << "\",\"inline_steps\":" << (setup.inline_steps ? "true" : "false")
+            << ",\"observer_steps\":\"" << (setup.observer_inline ? "inline" : "dispatch") << '"'
             << ",\"direct_stream_writes\":" << setup.direct_stream_writes
             << ",\"processes\":2,\"lost\":" << lost << ",\"direct_parts\":" << direct_parts
             << ",\"from_transition_us\":";
@@ -266,7 +271,7 @@ int run_bridge(const Setup& setup) {
   auto observer_options = mtc::bench::loopback<dds::DomainObserverOptions>();
   observer_options.domain_id = kDomain;
   observer_options.middleware = setup.middleware;
-  observer_options.inline_steps = setup.inline_steps;
+  observer_options.inline_steps = setup.observer_inline;
   dds::DomainObserverCallbacks callbacks;
   callbacks.on_device = [&](const dds::ObservedDevice& d) { agent->add_device(d); };
   Handover handover;
@@ -294,12 +299,15 @@ int run_bridge(const Setup& setup) {
 // The options, or the exit code of --help or of a bad option.
 std::optional<int> parse(int argc, char** argv, Setup& setup) {
   std::string middleware = "fastdds";
+  std::string observer_steps = "inline";
   mtc::bench::Cli cli(kArgv0, kAbout);
   cli.integer("--samples", setup.samples, 1, 10000000, "READY/NOT_READY toggles timed")
       .choice("--middleware", middleware, {"fastdds", "cyclone"},
               "DDS implementation of the device and the observer")
       .flag("--inline-steps", setup.inline_steps,
-            "device and observer step a received value on the middleware's thread")
+            "the device steps a received value on the middleware's thread")
+      .choice("--observer-steps", observer_steps, {"inline", "dispatch"},
+              "where the observer hands a value to the agent (mtc-bridge's InlineSteps)")
       .integer("--direct-stream-writes", setup.direct_stream_writes, 0, 1000,
                "the server's ServerOptions::direct_stream_writes (0: parts from its io thread)")
       .internal_options_follow()
@@ -314,6 +322,7 @@ std::optional<int> parse(int argc, char** argv, Setup& setup) {
     return 2;
   }
   setup.middleware = *choice.middleware;
+  setup.observer_inline = observer_steps == "inline";
   return std::nullopt;
 }
 

@@ -2,9 +2,10 @@
 # Runs the bridge HTTP benchmarks (mtc-bench-bridge-current, -stream, -abuse,
 # -fanout, -replay and, when built, -dds-stream) inside the loopback-only namespace; their JSON
 # summaries, one line each, go to stdout and to <build>/benchmarks/bridge_http.json.
-# -dds-stream runs three times: the defaults (Fast DDS, dispatch threads), with inline
-# steps, and (in a build with MTC_CYCLONE) over Cyclone DDS with inline steps: issue 9
-# section 5's path at its fastest.
+# -dds-stream runs four times: as mtc-bridge ships (Fast DDS, the observer handing values
+# to the agent on the receive thread), with the observer's dispatch thread instead
+# (InlineSteps = no), with the device's inline steps too, and (in a build with
+# MTC_CYCLONE) over Cyclone DDS with inline steps: issue 9 section 5's path.
 #
 # Usage: benchmarks/bridge_http/run.sh [build-dir]
 #   build-dir  default $MTC_BUILD_DIR, else <repo>/build
@@ -43,6 +44,7 @@ command -v wrk >/dev/null || { echo "run.sh: wrk not installed (apt-get install 
     dds_stream=("$root/scripts/netns-run.sh" "$bin/mtc-bench-bridge-dds-stream"
       --samples "${MTC_BENCH_SAMPLES:-1000}")
     "${dds_stream[@]}"
+    "${dds_stream[@]}" --observer-steps dispatch
     "${dds_stream[@]}" --inline-steps
     if grep -q '^MTC_CYCLONE:BOOL=ON$' "$build/CMakeCache.txt"; then
       "${dds_stream[@]}" --inline-steps --middleware cyclone

@@ -75,8 +75,8 @@ TEST(BridgeConfig, MiddlewareIsFastDdsOrCycloneWhereBuiltIn) {
             std::string::npos);
 }
 
-TEST(BridgeConfig, InlineStepsIsYesOrNoAndOffByDefault) {
-  EXPECT_FALSE(parse("").observer.inline_steps);
+TEST(BridgeConfig, InlineStepsIsYesOrNoAndOnByDefault) {
+  EXPECT_TRUE(parse("").observer.inline_steps);
   EXPECT_TRUE(parse("InlineSteps = yes").observer.inline_steps);
   EXPECT_TRUE(parse("InlineSteps = true").observer.inline_steps);
   EXPECT_FALSE(parse("InlineSteps = no").observer.inline_steps);
