@@ -23,7 +23,23 @@ using core::Service;
 // Generous: CI runs on 2 shared cores.
 inline constexpr auto kTimeout = 15s;
 
-class Recorder {
+// What a recorder of callbacks holds: a change made through add() (under
+// the mutex) wakes whoever waits on cv_ for it.
+class Guarded {
+ protected:
+  template <typename Fn>
+  void add(Fn fn) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      fn();
+    }
+    cv_.notify_all();
+  }
+  std::mutex mutex_;
+  std::condition_variable cv_;
+};
+
+class Recorder : private Guarded {
  public:
   EquipmentCallbacks callbacks() {
     EquipmentCallbacks cb;
@@ -138,16 +154,6 @@ class Recorder {
       return e.step.notice == n && e.step.reason == r;
     });
   }
-  template <typename Fn>
-  void add(Fn fn) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      fn();
-    }
-    cv_.notify_all();
-  }
-  std::mutex mutex_;
-  std::condition_variable cv_;
   std::vector<TransitionEvent> transitions_;
   std::vector<LinkEvent> links_;
   std::vector<ObservedValue> values_;

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "equipment_fixture.hpp"
+#include "loss_peer_process.hpp"
 #include "mtc/dds/detail/topics.hpp"
 #include "mtc/dds/domain_observer.hpp"
 #include "realtime_shift.hpp"
@@ -46,7 +47,7 @@ class ClockStep : public ::testing::Test {
 
 // What an observer saw: heartbeats per device (a clock made of the
 // protocol's own events) and every loss it reported.
-class ObserverLog {
+class ObserverLog : private Guarded {
  public:
   DomainObserverCallbacks callbacks() {
     DomainObserverCallbacks cb;
@@ -80,16 +81,6 @@ class ObserverLog {
   }
 
  private:
-  template <typename Fn>
-  void add(Fn fn) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      fn();
-    }
-    cv_.notify_all();
-  }
-  std::mutex mutex_;
-  std::condition_variable cv_;
   std::map<std::string, int> beats_;
   std::vector<std::string> lost_;
 };
@@ -154,18 +145,6 @@ TEST_F(ClockStep, StepsForwardAndBackReportNoLossAndHandshakesComplete) {
   EXPECT_TRUE(seen.lost().empty()) << "the observer reported " << seen.lost().size() << " losses";
 }
 
-pid_t start_peer(int domain) {
-  const std::string id = std::to_string(domain);
-  char* const argv[] = {const_cast<char*>(MTC_LOSS_PEER_PATH), const_cast<char*>(id.c_str()),
-                        nullptr};
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execv(argv[0], argv);
-    _exit(127);
-  }
-  return pid;
-}
-
 // A counterpart hangs (SIGSTOP), and the wall clock steps back a minute
 // right after its last heartbeat: measured on that clock, the silence
 // would not start for a minute. Both the equipment and the observer report
@@ -186,15 +165,10 @@ TEST_F(ClockStep, StepBackHidesNoLoss) {
   watcher.add_interface({"mh1", InterfaceType::MaterialHandler, "", {"peer-ld", "mh1"}});
   watcher.add_requester("mh1", Service::MaterialLoad);
   watcher.start();
-  const pid_t peer = start_peer(kDomain);
+  const pid_t peer = start_loss_peer(kDomain);
   ASSERT_GT(peer, 0);
-  const auto reap = [peer] {
-    kill(peer, SIGKILL);
-    int status = 0;
-    waitpid(peer, &status, 0);
-  };
   if (!rec.wait_link(watcher, "mh1", LinkState::Up) || !seen.wait_beats({{"peer-ld", 0}}, 2)) {
-    reap();
+    reap(peer);
     FAIL() << "the peer never came up: " << rec.dump();
   }
   const auto stopped = std::chrono::steady_clock::now();
@@ -205,7 +179,7 @@ TEST_F(ClockStep, StepBackHidesNoLoss) {
   const bool observer_saw =
       seen.wait_lost("peer-ld", std::chrono::duration_cast<std::chrono::milliseconds>(
                                     2 * lease - (std::chrono::steady_clock::now() - stopped)));
-  reap();
+  reap(peer);
   EXPECT_TRUE(equipment_saw)
       << "no loss after "
       << std::chrono::duration_cast<std::chrono::milliseconds>(equipment_after).count() << " ms:\n"

@@ -19,30 +19,13 @@
 #include <utility>
 
 #include "equipment_fixture.hpp"
+#include "loss_peer_process.hpp"
 #include "mtc/dds/detail/topics.hpp"
 
 namespace mtc::dds::testing {
 namespace {
 
 constexpr int kDomain = 58;
-
-pid_t start_peer() {
-  const std::string domain = std::to_string(kDomain);
-  char* const argv[] = {const_cast<char*>(MTC_LOSS_PEER_PATH), const_cast<char*>(domain.c_str()),
-                        nullptr};
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execv(argv[0], argv);
-    _exit(127);
-  }
-  return pid;
-}
-
-void reap(pid_t pid) {
-  kill(pid, SIGKILL);
-  int status = 0;
-  waitpid(pid, &status, 0);
-}
 
 TEST(LossDetection, KilledOrStoppedPeerIsLostWithinTwoLeasesAndNothingElse) {
   Recorder rec;
@@ -58,7 +41,7 @@ TEST(LossDetection, KilledOrStoppedPeerIsLostWithinTwoLeasesAndNothingElse) {
   std::size_t losses = 0;
   for (int round = 0; round < kRounds; ++round) {
     const int signal = round % 2 == 0 ? SIGKILL : SIGSTOP;
-    const pid_t peer = start_peer();
+    const pid_t peer = start_loss_peer(kDomain);
     ASSERT_GT(peer, 0);
     ASSERT_TRUE(rec.wait_link(watcher, "mh1", LinkState::Up)) << rec.dump();
     // Its heartbeats are arriving (the loss cue is their absence). No
