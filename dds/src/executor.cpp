@@ -113,42 +113,32 @@ void Executor::enqueue_locked(Task task) {
   tasks_.push_back(std::move(task));
 }
 
-void Executor::dispatch(Task task) {
-  bool step_here = false;
-  bool notify = false;
-  std::deque<Task> queued;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (stopping_) {
-      return;
-    }
-    // The executor thread must exist to pick up what this step leaves behind.
-    step_here = inline_steps_ && started_ && !busy_ && (t_states_owned == 0 || !steps_write_);
-    if (step_here) {
-      busy_ = true;
-      if (owed_since_ == Clock::time_point{}) owed_since_ = Clock::now();
-      // Queued tasks go first (posting order), here: left to the executor
-      // thread, they and every step behind them would wait for whatever it
-      // runs meanwhile, a report such as an application callback that blocks
-      // (seen under TSan: a status queued while the robot's on_request was
-      // held kept its ACTIVE back until the heartbeat was withheld).
-      queued.swap(tasks_);
-    } else {
-      enqueue_locked(std::move(task));
-      notify = !busy_;  // as in post()
-    }
-  }
-  if (!step_here) {
-    if (notify) cv_.notify_one();
-    return;
-  }
+bool Executor::claim_for_inline_step() {
+  if (!inline_steps_) return false;
+  std::lock_guard<std::mutex> lock(mutex_);
+  // The executor thread must exist to pick up what this step leaves behind;
+  // a stopping executor takes nothing (post() drops it).
+  if (stopping_ || !started_ || busy_ || (t_states_owned != 0 && steps_write_)) return false;
+  busy_ = true;
+  if (owed_since_ == Clock::time_point{}) owed_since_ = Clock::now();
+  // Queued tasks go first (posting order), here: left to the executor
+  // thread, they and every step behind them would wait for whatever it runs
+  // meanwhile, a report such as an application callback that blocks (seen
+  // under TSan: a status queued while the robot's on_request was held kept
+  // its ACTIVE back until the heartbeat was withheld).
+  owner_batch_.swap(tasks_);
+  return true;
+}
+
+void Executor::run_claimed_step(const Task& step) {
   {
     std::optional<OwningAState> owning;
     if (steps_write_) owning.emplace();
-    for (auto& earlier : queued) {
+    for (auto& earlier : owner_batch_) {
       guarded(earlier);
     }
-    guarded(task);
+    owner_batch_.clear();
+    guarded(step);
     drain_while_owner();
   }
   release();
@@ -160,15 +150,15 @@ void Executor::drain_while_owner() {
   // handing it to the executor thread would cost the hand-off the inline
   // step saved. One batch only: a middleware thread must not be kept from
   // its own work by a stream of tasks; what comes after goes to the executor.
-  std::deque<Task> batch;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (stopping_) return;
-    batch.swap(tasks_);
+    owner_batch_.swap(tasks_);
   }
-  for (auto& task : batch) {
+  for (auto& task : owner_batch_) {
     guarded(task);
   }
+  owner_batch_.clear();
 }
 
 Executor::Clock::duration Executor::owed_for(Clock::time_point now) const {

@@ -46,7 +46,16 @@ class Executor {
   void post(Task task);
   // Like post(), but with inline steps on, a task that finds the state idle
   // (no task running) runs now on the calling thread, after those queued.
-  void dispatch(Task task);
+  // A step taken here is called in place, never wrapped in a Task: a Task
+  // that holds a DDS event is a heap allocation for every value received.
+  template <typename Step>
+  void dispatch(Step&& step) {
+    if (!claim_for_inline_step()) {
+      post(Task(std::forward<Step>(step)));
+      return;
+    }
+    run_claimed_step([&step] { step(); });
+  }
   // A report (an application callback, a command's result): runs on the
   // executor thread, reports in posting order, but without owning the state,
   // so that a value stepped inline meanwhile never waits for a callback.
@@ -68,6 +77,11 @@ class Executor {
  private:
   void run();
   void enqueue_locked(Task task);  // mutex_ held
+  // Inline steps on, the state idle and this thread free to step it: takes
+  // the state (and what is queued, to run first) and returns true.
+  bool claim_for_inline_step();
+  // The claimed state's step: what was queued, the step, what it queued, release().
+  void run_claimed_step(const Task& step);
   // Waits (executor thread) until the state is free and there is work:
   // tasks, a due wake-up or stop. Returns the wake-up instant it waited for.
   Clock::time_point await_work(std::unique_lock<std::mutex>& lock);
@@ -85,6 +99,10 @@ class Executor {
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Task> tasks_;
+  // The tasks an inline step's owner runs (queued before the step, queued by
+  // it). Touched only by the thread that set busy_: kept, not made per
+  // step, because a std::deque allocates as it is constructed.
+  std::deque<Task> owner_batch_;
   bool started_ = false;
   bool stopping_ = false;
   bool busy_ = false;  // a batch, on_wake or an inline step owns the state
