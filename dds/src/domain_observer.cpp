@@ -12,6 +12,7 @@
 #include "device_owners.hpp"
 #include "executor.hpp"
 #include "left_incarnations.hpp"
+#include "lookup_keys.hpp"
 #include "mtc/dds/error.hpp"
 #include "mtc/qos/participant.hpp"
 #include "mtc/qos/presets.hpp"
@@ -62,8 +63,8 @@ struct DomainObserver::Impl {
   // Dispatch-thread state.
   std::map<Handle, WriterInfo> writers;
   std::map<std::pair<TopicKind, Handle>, InstanceOwner> instances;
-  std::map<ItemKey, LastValue> last_values;
-  std::set<ItemKey> lost_items;
+  std::map<ItemKey, LastValue, detail::ViewLess> last_values;
+  std::set<ItemKey, detail::ViewLess> lost_items;
   std::set<std::string> lost_devices;
   detail::PeerGroups peer_groups;
   detail::PeerChecks peer_checks;
@@ -130,11 +131,21 @@ struct DomainObserver::Impl {
     w.device = v.device_uuid;
     w.items.insert(v.data_item_id);
     const auto writer_participant = detail::participant_of(e.writer);
-    instances[{e.topic, e.instance}] = {v.device_uuid, v.data_item_id, 0, writer_participant};
+    // Assigned in place and looked up by views: an item seen before costs
+    // no allocation here (this runs for every value the bridge mirrors).
+    auto& instance = instances[{e.topic, e.instance}];
+    instance.device = v.device_uuid;
+    instance.item = v.data_item_id;
+    instance.group = 0;
+    instance.participant = writer_participant;
     peer_groups.on_value(e.writer, e.topic, v);
     incarnation[v.device_uuid] = writer_participant;
-    last_values[{v.device_uuid, v.data_item_id}] = {v, writer_participant};
-    lost_items.erase({v.device_uuid, v.data_item_id});
+    const std::pair<std::string_view, std::string_view> item(v.device_uuid, v.data_item_id);
+    auto& last = detail::find_or_add(last_values, item,
+                                     [&] { return ItemKey(v.device_uuid, v.data_item_id); });
+    last.value = v;
+    last.participant = writer_participant;
+    if (const auto lost = lost_items.find(item); lost != lost_items.end()) lost_items.erase(lost);
     if (callbacks.on_value) callbacks.on_value(v);
   }
 

@@ -75,9 +75,15 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   const auto verdict = peer_checks.check(group, e.writer, v);
   if (verdict.report) diagnostic(*verdict.report);
   if (!verdict.use) return;
+  // Assigned in place, here and below: a value of an item seen before
+  // reuses the strings' storage instead of allocating it again.
   writer_device[e.writer] = v.device_uuid;
-  instance_item[{e.topic, e.instance}] = {v.device_uuid, v.interface_id, v.data_item_id, 0,
-                                          detail::participant_of(e.writer)};
+  auto& owner = instance_item[{e.topic, e.instance}];
+  owner.device = v.device_uuid;
+  owner.interface_id = v.interface_id;
+  owner.item = v.data_item_id;
+  owner.group = 0;
+  owner.participant = detail::participant_of(e.writer);
   writer_interfaces[e.writer].insert(v.interface_id);
   peer_groups.on_value(e.writer, e.topic, v);
   // A change number that skips ahead means this writer changed something we
@@ -106,7 +112,13 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
     take_counterpart_value(*itf, e.writer, v, e.heard_ns, missed_change);
   }
   // After the interfaces: a pairing above replays what was seen before.
-  seen_values[{v.device_uuid, v.data_item_id}] = {e.writer, v, e.paired, e.heard_ns};
+  auto& seen = detail::find_or_add(
+      seen_values, std::pair<std::string_view, std::string_view>(v.device_uuid, v.data_item_id),
+      [&] { return std::pair(v.device_uuid, v.data_item_id); });
+  seen.writer = e.writer;
+  seen.value = v;
+  seen.paired = e.paired;
+  seen.heard_ns = e.heard_ns;
 }
 
 // Remembers a counterpart value (the last of each item is fed again after a
@@ -117,8 +129,8 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
 // not trust a READY written before we knew of it).
 void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
                                            const ObservedValue& v, std::int64_t heard_ns) {
-  const auto key = detail::PeerGroups::key_of(writer, v.device_uuid, v.heartbeat_group);
-  const bool new_incarnation = !itf.cp_group || itf.cp_group->participant != key.participant;
+  const auto writing = detail::participant_of(writer);
+  const bool new_incarnation = !itf.cp_group || itf.cp_group->participant != writing;
   // Its predecessor is gone, whether or not its silence was noticed yet (a
   // device that never got its announcement through takes no ownership
   // check): scenario 6, before anything of the new one is taken.
@@ -127,7 +139,11 @@ void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Han
     itf.cp_values.clear();
     itf.cp_stale.clear();
   }
-  itf.cp_group = key;
+  // In place: no key built (and allocated) for every value.
+  if (!itf.cp_group) itf.cp_group.emplace();
+  itf.cp_group->device = v.device_uuid;
+  itf.cp_group->group = v.heartbeat_group;
+  itf.cp_group->participant = writing;
   if (new_incarnation && started) publish_pairing(itf);
   itf.cp_values[v.data_item_id] = v;
   itf.cp_stale.erase(v.data_item_id);

@@ -19,6 +19,7 @@
 #include "executor.hpp"
 #include "heartbeat_thread.hpp"
 #include "left_incarnations.hpp"
+#include "lookup_keys.hpp"
 #include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mw/middleware.hpp"
@@ -198,7 +199,7 @@ struct EquipmentImpl {
     detail::ParticipantKey paired{};
     std::int64_t heard_ns = 0;  // steady_ns
   };
-  std::map<std::pair<std::string, std::string>, SeenValue> seen_values;
+  std::map<std::pair<std::string, std::string>, SeenValue, detail::ViewLess> seen_values;
 
   // Samples written (any thread), for Equipment::traffic().
   std::atomic<std::uint64_t> values_written{0};

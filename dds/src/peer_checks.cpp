@@ -25,7 +25,10 @@ bool leapt(std::uint64_t newest, std::uint64_t received) {
 PeerChecks::Verdict PeerChecks::check(std::size_t group, const Handle& writer,
                                       const ObservedValue& value) {
   Verdict verdict;
-  auto& reported = reported_[ItemKey{writer, value.data_item_id}];
+  const std::string_view item = value.data_item_id;
+  auto& reported = find_or_add(reported_, std::pair(writer, item), [&] {
+    return ItemKey{writer, value.data_item_id};
+  });
   const auto report_once = [&](bool& flag, std::string text) {
     if (flag || verdict.report) return;
     flag = true;
@@ -42,7 +45,9 @@ PeerChecks::Verdict PeerChecks::check(std::size_t group, const Handle& writer,
     report_once(reported.state,
                 "state " + std::to_string(value.state.raw()) + " is outside its vocabulary");
   }
-  auto& newest = newest_[GroupItemKey{writer, group, value.data_item_id}];
+  auto& newest = find_or_add(newest_, std::tuple(writer, group, item), [&] {
+    return GroupItemKey{writer, group, value.data_item_id};
+  });
   // Text only when there is something to say: this runs for every sample.
   const auto numbers = [&] {
     return " from " + std::to_string(newest) + " to " + std::to_string(value.sequence_number);

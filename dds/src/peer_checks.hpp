@@ -25,6 +25,7 @@
 #include <tuple>
 #include <utility>
 
+#include "lookup_keys.hpp"
 #include "mw/tap_events.hpp"
 
 namespace mtc::dds::detail {
@@ -61,8 +62,8 @@ class PeerChecks {
     bool back = false;
     bool leap = false;
   };
-  std::map<GroupItemKey, std::uint64_t> newest_;
-  std::map<ItemKey, Reported> reported_;
+  std::map<GroupItemKey, std::uint64_t, ViewLess> newest_;
+  std::map<ItemKey, Reported, ViewLess> reported_;
   std::set<std::pair<Handle, std::size_t>> refused_;  // writer, interaction topic
 };
 

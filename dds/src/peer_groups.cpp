@@ -42,11 +42,11 @@ bool PeerGroup::in_step(const InteractionTopics& read) const noexcept {
   return true;
 }
 
-PeerGroupKey PeerGroups::on_value(const Handle& writer, TopicKind topic,
-                                  const ObservedValue& value) {
-  auto key = key_of(writer, value.device_uuid, value.heartbeat_group);
+void PeerGroups::on_value(const Handle& writer, TopicKind topic, const ObservedValue& value) {
   if (is_state_topic(topic)) {
-    auto& group = groups_[key];
+    const PeerGroupKeyView view{value.device_uuid, value.heartbeat_group, participant_of(writer)};
+    auto& group = find_or_add(
+        groups_, view, [&] { return key_of(writer, value.device_uuid, value.heartbeat_group); });
     auto& newest = group.received[static_cast<std::size_t>(topic)];
     newest = std::max(newest, value.sequence_number);
     if ((topic == TopicKind::Request || topic == TopicKind::Response) && value.service) {
@@ -54,7 +54,6 @@ PeerGroupKey PeerGroups::on_value(const Handle& writer, TopicKind topic,
       per_topic = std::max(per_topic, value.sequence_number);
     }
   }
-  return key;
 }
 
 PeerGroup& PeerGroups::on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat,

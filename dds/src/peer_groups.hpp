@@ -20,8 +20,10 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <tuple>
 
+#include "lookup_keys.hpp"
 #include "mw/tap_events.hpp"
 
 namespace mtc::dds::detail {
@@ -36,6 +38,30 @@ struct PeerGroupKey {
   }
   friend bool operator==(const PeerGroupKey& a, const PeerGroupKey& b) {
     return a.device == b.device && a.group == b.group && a.participant == b.participant;
+  }
+};
+
+// A PeerGroupKey to look up, its device viewed: a value's group is found
+// for every sample, and building the key allocated the device's uuid.
+struct PeerGroupKeyView {
+  std::string_view device;
+  std::uint32_t group = 0;
+  ParticipantKey participant{};
+};
+
+// Orders PeerGroupKey and PeerGroupKeyView alike (as PeerGroupKey's <).
+struct PeerGroupKeyLess {
+  using is_transparent = void;  // NOLINT(readability-identifier-naming): the standard name
+  template <typename A, typename B>
+  bool operator()(const A& a, const B& b) const noexcept {
+    return as_tuple(a) < as_tuple(b);
+  }
+
+ private:
+  using Tuple = std::tuple<std::string_view, std::uint32_t, const ParticipantKey&>;
+  template <typename Key>
+  static Tuple as_tuple(const Key& k) noexcept {
+    return Tuple(k.device, k.group, k.participant);
   }
 };
 
@@ -75,8 +101,8 @@ class PeerGroups {
   void set_read(const InteractionTopics& read) { read_ = read; }
   bool in_step(const PeerGroup& group) const noexcept { return group.in_step(read_); }
 
-  // A state sample from `writer` on state topic `topic`; returns its group.
-  PeerGroupKey on_value(const Handle& writer, TopicKind topic, const ObservedValue& value);
+  // A state sample from `writer` on state topic `topic`.
+  void on_value(const Handle& writer, TopicKind topic, const ObservedValue& value);
   // A heartbeat heard at `heard_steady_ns` (steady_ns); returns its group's
   // record (created on first sight).
   PeerGroup& on_heartbeat(const Handle& writer, const ObservedHeartbeat& heartbeat,
@@ -104,7 +130,7 @@ class PeerGroups {
 
  private:
   InteractionTopics read_;
-  std::map<PeerGroupKey, PeerGroup> groups_;
+  std::map<PeerGroupKey, PeerGroup, PeerGroupKeyLess> groups_;
   std::map<Handle, PeerGroupKey> heartbeat_writers_;
 };
 
