@@ -22,9 +22,16 @@ decltype(auto) viewed(const T& part) noexcept {
   }
 }
 
-// Orders pairs and tuples element by element, strings by their characters,
-// whether held or viewed: std::pair<Handle, std::string> against
-// std::pair<Handle, std::string_view>.
+// A key type that is a struct says what it is made of with parts() (a
+// std::tie of its members, in the order keys sort by).
+template <typename Key, typename = void>
+struct HasParts : std::false_type {};
+template <typename Key>
+struct HasParts<Key, std::void_t<decltype(std::declval<const Key&>().parts())>> : std::true_type {};
+
+// Orders pairs, tuples and keys with parts() element by element, strings by
+// their characters, whether held or viewed: std::pair<Handle, std::string>
+// against std::pair<Handle, std::string_view>.
 struct ViewLess {
   using is_transparent = void;  // NOLINT(readability-identifier-naming): the standard name
 
@@ -34,11 +41,17 @@ struct ViewLess {
   }
 
  private:
-  template <typename TupleLike>
-  static auto as_views(const TupleLike& key) noexcept {
-    return std::apply(
-        [](const auto&... part) { return std::tuple<decltype(viewed(part))...>(viewed(part)...); },
-        key);
+  template <typename Key>
+  static auto as_views(const Key& key) noexcept {
+    if constexpr (HasParts<Key>::value) {
+      return as_views(key.parts());
+    } else {
+      return std::apply(
+          [](const auto&... part) {
+            return std::tuple<decltype(viewed(part))...>(viewed(part)...);
+          },
+          key);
+    }
   }
 };
 

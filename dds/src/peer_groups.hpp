@@ -33,36 +33,23 @@ struct PeerGroupKey {
   std::uint32_t group = 0;
   ParticipantKey participant{};
 
+  auto parts() const noexcept { return std::tie(device, group, participant); }
   friend bool operator<(const PeerGroupKey& a, const PeerGroupKey& b) {
-    return std::tie(a.device, a.group, a.participant) < std::tie(b.device, b.group, b.participant);
+    return a.parts() < b.parts();
   }
   friend bool operator==(const PeerGroupKey& a, const PeerGroupKey& b) {
-    return a.device == b.device && a.group == b.group && a.participant == b.participant;
+    return a.parts() == b.parts();
   }
 };
 
-// A PeerGroupKey to look up, its device viewed: a value's group is found
-// for every sample, and building the key allocated the device's uuid.
+// A PeerGroupKey to look up (ViewLess), its device viewed: a value's group
+// is found for every sample, and building the key allocated the uuid.
 struct PeerGroupKeyView {
   std::string_view device;
   std::uint32_t group = 0;
   ParticipantKey participant{};
-};
 
-// Orders PeerGroupKey and PeerGroupKeyView alike (as PeerGroupKey's <).
-struct PeerGroupKeyLess {
-  using is_transparent = void;  // NOLINT(readability-identifier-naming): the standard name
-  template <typename A, typename B>
-  bool operator()(const A& a, const B& b) const noexcept {
-    return as_tuple(a) < as_tuple(b);
-  }
-
- private:
-  using Tuple = std::tuple<std::string_view, std::uint32_t, const ParticipantKey&>;
-  template <typename Key>
-  static Tuple as_tuple(const Key& k) noexcept {
-    return Tuple(k.device, k.group, k.participant);
-  }
+  auto parts() const noexcept { return std::tie(device, group, participant); }
 };
 
 // The leave said in data (idl: Heartbeat.period_ms): a device's last
@@ -130,7 +117,7 @@ class PeerGroups {
 
  private:
   InteractionTopics read_;
-  std::map<PeerGroupKey, PeerGroup, PeerGroupKeyLess> groups_;
+  std::map<PeerGroupKey, PeerGroup, ViewLess> groups_;
   std::map<Handle, PeerGroupKey> heartbeat_writers_;
 };
 

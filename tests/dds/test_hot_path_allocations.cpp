@@ -89,7 +89,6 @@ using mtc::core::ObservedValue;
 using mtc::dds::detail::Executor;
 using mtc::dds::detail::Handle;
 using mtc::dds::detail::PeerGroupKey;
-using mtc::dds::detail::PeerGroupKeyLess;
 using mtc::dds::detail::PeerGroupKeyView;
 using mtc::dds::detail::ViewLess;
 
@@ -206,7 +205,7 @@ TEST(HotPathAllocations, FindOrAddAddsOnceThenOnlyFinds) {
   EXPECT_EQ(m.size(), 1U);
 }
 
-TEST(HotPathAllocations, PeerGroupKeyLessOrdersAsTheKeysDo) {
+TEST(HotPathAllocations, ViewLessOrdersPeerGroupKeysAsTheirOwnLessDoes) {
   std::vector<PeerGroupKey> keys;
   for (const char* device : {"", "a", "ab", "b"}) {
     for (const std::uint32_t group : {0U, 1U}) {
@@ -217,7 +216,7 @@ TEST(HotPathAllocations, PeerGroupKeyLessOrdersAsTheKeysDo) {
       }
     }
   }
-  const PeerGroupKeyLess less;
+  const ViewLess less;
   for (const auto& a : keys) {
     for (const auto& b : keys) {
       EXPECT_EQ(less(a, b), a < b) << a.device << a.group << " " << b.device << b.group;
