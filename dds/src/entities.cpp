@@ -23,6 +23,15 @@ void report(const ReturnCode& code, const char* what) {
   }
 }
 
+// Throws for a failed write or dispose, naming the topic. The text is built
+// only then: a write is on every transit's path, and building it first cost
+// four allocations per sample.
+void check_sample_call(const ReturnCode& code, const char* what, const fdds::DataWriter& writer) {
+  if (code != ReturnCode::RETCODE_OK) {
+    check(code, std::string(what) + " on " + writer.get_topic()->get_name());
+  }
+}
+
 // The builtin transports include shared memory, and so may a user's list.
 bool uses_shared_memory(const fdds::DomainParticipantQos& qos) {
   const auto& transport = qos.transport();
@@ -163,20 +172,12 @@ void WriterBase::assert_liveliness() {
   check(writer_->assert_liveliness(), "assert_liveliness");
 }
 
-// The error text is built only for a failed call: a write is on every
-// transit's path, and the text cost it four allocations each time.
 void WriterBase::write_untyped(void* sample, const char* what) {
-  const auto code = writer_->write(sample, fdds::HANDLE_NIL);
-  if (code != ReturnCode::RETCODE_OK) {
-    check(code, std::string(what) + " on " + writer_->get_topic()->get_name());
-  }
+  check_sample_call(writer_->write(sample, fdds::HANDLE_NIL), what, *writer_);
 }
 
 void WriterBase::dispose_untyped(void* sample, const char* what) {
-  const auto code = writer_->dispose(sample, fdds::HANDLE_NIL);
-  if (code != ReturnCode::RETCODE_OK) {
-    check(code, std::string(what) + " on " + writer_->get_topic()->get_name());
-  }
+  check_sample_call(writer_->dispose(sample, fdds::HANDLE_NIL), what, *writer_);
 }
 
 Reader::Reader(Subscriber& subscriber, Topic& topic, const fdds::DataReaderQos& qos,
