@@ -193,6 +193,11 @@ InterfaceSlot& EquipmentImpl::interface_slot(const std::string& id) const {
 void Equipment::add_interface(InterfaceConfig config) {
   if (impl_->started) throw ConfigError("add_interface after start()");
   if (auto problem = topics::check_interface_id(config.id)) throw ConfigError(*problem);
+  if (impl_->interfaces.size() >= kMaxInterfacesPerDevice) {
+    throw ConfigError("interface \"" + config.id + "\": an equipment has at most " +
+                      std::to_string(kMaxInterfacesPerDevice) +
+                      " interfaces (its announcement's bound on the wire)");
+  }
   for (const auto& itf : impl_->interfaces) {
     if (itf->config.id == config.id) {
       throw ConfigError("interface \"" + config.id + "\" declared twice");

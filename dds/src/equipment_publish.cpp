@@ -367,6 +367,12 @@ ObservedDataItem item(const std::string& id, std::string_view type, std::string_
 
 }  // namespace
 
+// The announcement's bound on data items per interface
+// (InterfaceDescription in idl/mtconnect_interfaces.idl): INTERFACE_STATE, a
+// door and a chuck state, every service in both roles.
+static_assert(1 + 2 + 2 * core::kAllServices.size() <= 32,
+              "an interface's data items must fit InterfaceDescription::data_items");
+
 void EquipmentImpl::publish_description() {
   ObservedDevice d;
   d.device_uuid = options.device_uuid;

@@ -9,11 +9,15 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <condition_variable>
 #include <future>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "equipment_fixture.hpp"
+#include "mtc/dds/domain_observer.hpp"
 
 namespace mtc::dds::testing {
 namespace {
@@ -149,6 +153,71 @@ TEST_P(MixedCell, AGracefulEndIsALeave) {
 
 INSTANTIATE_TEST_SUITE_P(Middlewares, MixedCell,
                          ::testing::Values(Pair{Middleware::Cyclone, Middleware::Cyclone},
+                                           Pair{Middleware::Cyclone, Middleware::FastDds},
+                                           Pair{Middleware::FastDds, Middleware::Cyclone}),
+                         name_of);
+
+// The announcement carries every interface an Equipment may declare, each
+// as full as an interface gets: the IDL's bounds are the wire contract, and
+// each vendor holds to them (Cyclone refuses to write beyond a bound, and
+// drops a sample received beyond it). Before the bounds and the refusal
+// matched, an equipment with 100 interfaces could not start on Cyclone
+// ("dds_write (device announcement) failed: Bad Parameter"), and its
+// announcement from Fast DDS never reached a Cyclone reader. Each writer with
+// each reader; Fast DDS with Fast DDS over shared memory (a sample of some
+// 500 KB), the others over UDP.
+class FullAnnouncement : public ::testing::TestWithParam<Pair> {};
+
+TEST_P(FullAnnouncement, EveryInterfaceAndItemReachesAnObserver) {
+  std::mutex mutex;
+  std::condition_variable seen;
+  std::optional<ObservedDevice> device;
+  DomainObserverCallbacks cb;
+  cb.on_device = [&](const ObservedDevice& d) {
+    if (d.device_uuid != "cell-wide") return;
+    std::lock_guard<std::mutex> lock(mutex);
+    device = d;
+    seen.notify_all();
+  };
+  const bool fast_only =
+      GetParam().robot == Middleware::FastDds && GetParam().machine == Middleware::FastDds;
+  const auto transport = fast_only ? qos::Transport::Loopback : qos::Transport::LoopbackUdp;
+  auto oo = mtc::test::loopback<DomainObserverOptions>();
+  oo.domain_id = kDomain;
+  oo.transport = transport;
+  oo.middleware = GetParam().machine;
+  DomainObserver observer(oo, cb);
+
+  auto eo = on(GetParam().robot, "cell-wide");
+  eo.transport = transport;
+  Equipment wide(eo);
+  // A door and a chuck state, and both roles of every service: 23 items.
+  for (std::size_t k = 0; k < kMaxInterfacesPerDevice; ++k) {
+    InterfaceConfig full{"if" + std::to_string(k), InterfaceType::Door, "", {}};
+    full.publishes_door_state = true;
+    full.publishes_chuck_state = true;
+    wide.add_interface(full);
+    for (const auto service : core::kAllServices) {
+      wide.add_requester(full.id, service);
+      wide.add_responder(full.id, service, ResponderCallbacks{});
+    }
+  }
+  EXPECT_THROW(wide.add_interface({"one-more", InterfaceType::MaterialHandler, "", {}}),
+               ConfigError);
+  wide.start();
+
+  std::unique_lock<std::mutex> lock(mutex);
+  ASSERT_TRUE(seen.wait_for(lock, kTimeout, [&] { return device.has_value(); }));
+  ASSERT_EQ(device->interfaces.size(), kMaxInterfacesPerDevice);
+  for (const auto& itf : device->interfaces) {
+    EXPECT_EQ(itf.data_items.size(), 3 + 2 * core::kAllServices.size()) << itf.id;
+  }
+  EXPECT_EQ(device->interfaces.back().id, "if" + std::to_string(kMaxInterfacesPerDevice - 1));
+}
+
+INSTANTIATE_TEST_SUITE_P(Middlewares, FullAnnouncement,
+                         ::testing::Values(Pair{Middleware::FastDds, Middleware::FastDds},
+                                           Pair{Middleware::Cyclone, Middleware::Cyclone},
                                            Pair{Middleware::Cyclone, Middleware::FastDds},
                                            Pair{Middleware::FastDds, Middleware::Cyclone}),
                          name_of);

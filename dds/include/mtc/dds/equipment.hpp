@@ -36,6 +36,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <future>
@@ -109,6 +110,12 @@ struct CounterpartSpec {
   std::string device_uuid;
   std::string interface_id;
 };
+
+// The most interfaces one Equipment declares: its announcement
+// (DeviceDescription in idl/mtconnect_interfaces.idl) carries them all, in a
+// sequence bounded at this, and a reader of another DDS vendor drops a sample
+// beyond a bound. add_interface refuses one more.
+inline constexpr std::size_t kMaxInterfacesPerDevice = 128;
 
 struct InterfaceConfig {
   std::string id;  // unique within the device, e.g. "mh1"
