@@ -338,8 +338,11 @@ std::unique_ptr<fdds::DataReaderListener> make_listener(TopicKind kind, const Ta
 
 fdds::DataReaderQos reader_qos(TopicKind kind, const TapConfig& config) {
   switch (kind) {
-    case TopicKind::DeviceDescription:
-      return qos::fastdds_reader_qos(qos::device_description_topic(config.timing));
+    case TopicKind::DeviceDescription: {
+      auto q = qos::fastdds_reader_qos(qos::device_description_topic(config.timing));
+      qos::announcement_memory(q);
+      return q;
+    }
     case TopicKind::Heartbeat:
       return config.observer ? qos::fastdds_reader_qos(qos::heartbeat_observer_topic(config.timing))
                              : qos::fastdds_reader_qos(qos::heartbeat_topic(config.timing));

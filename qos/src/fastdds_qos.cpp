@@ -100,6 +100,14 @@ fdds::DataReaderQos fastdds_reader_qos(const EndpointQos& endpoint) {
   return q;
 }
 
+void announcement_memory(fdds::DataWriterQos& q) noexcept {
+  q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
+}
+
+void announcement_memory(fdds::DataReaderQos& q) noexcept {
+  q.resource_limits().allocated_samples = 1;
+}
+
 fdds::TopicQos fastdds_topic_qos(const EndpointQos& endpoint) {
   fdds::TopicQos q = fdds::TOPIC_QOS_DEFAULT;
   apply_common(endpoint, q);

@@ -162,6 +162,9 @@ void expect_same_writer(const std::string& profile, const fdds::DataWriterQos& c
   EXPECT_EQ(a.topic.resourceLimitsQos.max_samples, code.resource_limits().max_samples);
   EXPECT_EQ(a.topic.resourceLimitsQos.max_samples_per_instance,
             code.resource_limits().max_samples_per_instance);
+  EXPECT_EQ(a.topic.resourceLimitsQos.allocated_samples, code.resource_limits().allocated_samples)
+      << profile;
+  EXPECT_EQ(a.historyMemoryPolicy, code.endpoint().history_memory_policy) << profile;
   EXPECT_EQ(a.times.heartbeatPeriod, code.reliable_writer_qos().times.heartbeatPeriod) << profile;
   EXPECT_EQ(a.times.nackSupressionDuration, code.reliable_writer_qos().times.nackSupressionDuration)
       << profile;
@@ -182,15 +185,25 @@ void expect_same_reader(const std::string& profile, const fdds::DataReaderQos& c
   EXPECT_EQ(a.topic.resourceLimitsQos.max_samples, code.resource_limits().max_samples);
   EXPECT_EQ(a.topic.resourceLimitsQos.max_samples_per_instance,
             code.resource_limits().max_samples_per_instance);
+  EXPECT_EQ(a.topic.resourceLimitsQos.allocated_samples, code.resource_limits().allocated_samples)
+      << profile;
+  EXPECT_EQ(a.historyMemoryPolicy, code.endpoint().history_memory_policy) << profile;
 }
 
 TEST_F(XmlProfiles, EndpointProfilesMatchCodePresets) {
-  for (const auto name : {mtc::qos::kStateProfile, mtc::qos::kDeviceDescriptionProfile,
-                          mtc::qos::kHeartbeatProfile}) {
+  for (const auto name : {mtc::qos::kStateProfile, mtc::qos::kHeartbeatProfile}) {
     const auto preset = mtc::qos::preset(name);
     expect_same_writer(std::string(name) + ".writer", mtc::qos::fastdds_writer_qos(preset));
     expect_same_reader(std::string(name) + ".reader", mtc::qos::fastdds_reader_qos(preset));
   }
+  // The announcement's memory as the runtime sets it (announcement_memory).
+  auto writer = mtc::qos::fastdds_writer_qos(mtc::qos::device_description_topic());
+  auto reader = mtc::qos::fastdds_reader_qos(mtc::qos::device_description_topic());
+  mtc::qos::announcement_memory(writer);
+  mtc::qos::announcement_memory(reader);
+  const std::string description(mtc::qos::kDeviceDescriptionProfile);
+  expect_same_writer(description + ".writer", writer);
+  expect_same_reader(description + ".reader", reader);
   // An observer only reads.
   expect_same_reader(std::string(mtc::qos::kStateObserverProfile) + ".reader",
                      mtc::qos::fastdds_reader_qos(mtc::qos::state_observer_topic()));

@@ -74,7 +74,7 @@ class FastHeartbeatWriter final : public HeartbeatWriter {
 class FastDeviceWriter final : public DeviceWriter {
  public:
   FastDeviceWriter(detail::Publisher& publisher, detail::Topic& topic, const qos::EndpointQos& q)
-      : writer_(publisher, topic, qos::fastdds_writer_qos(q), listener_) {}
+      : writer_(publisher, topic, announcement_qos(q), listener_) {}
 
   void write(const ObservedDevice& device, std::uint64_t sequence_number,
              std::int64_t source_time_ns) override {
@@ -89,6 +89,12 @@ class FastDeviceWriter final : public DeviceWriter {
   }
 
  private:
+  static eprosima::fastdds::dds::DataWriterQos announcement_qos(const qos::EndpointQos& q) {
+    auto fast = qos::fastdds_writer_qos(q);
+    qos::announcement_memory(fast);
+    return fast;
+  }
+
   QuietWriterListener listener_;
   detail::Writer<idl::DeviceDescription> writer_;
 };

@@ -37,6 +37,17 @@ std::chrono::nanoseconds nack_suppression(std::chrono::nanoseconds heartbeat_per
 eprosima::fastdds::dds::DataReaderQos fastdds_reader_qos(const EndpointQos& endpoint);
 eprosima::fastdds::dds::TopicQos fastdds_topic_qos(const EndpointQos& endpoint);
 
+// For the device announcement, whose samples hold far less than their type's
+// bound (1.7 MB for 128 interfaces; a few KB written): Fast DDS reserves the
+// bound for each of allocated_samples history slots up front (100 by
+// default: hundreds of MB per process). The writer, which holds one sample,
+// sizes each to what it holds (a dynamic memory policy); the reader reserves
+// one slot and adds one per device it hears from. A dynamic policy on the
+// reader side too made a Fast DDS reader miss a Cyclone device's return
+// (docs/fastdds-notes.md, "The announcement's memory").
+void announcement_memory(eprosima::fastdds::dds::DataWriterQos& q) noexcept;
+void announcement_memory(eprosima::fastdds::dds::DataReaderQos& q) noexcept;
+
 // Converts a std::chrono duration to a DDS Duration_t (infinite stays out:
 // callers pass only finite periods).
 eprosima::fastrtps::Duration_t to_duration(std::chrono::nanoseconds d) noexcept;
