@@ -85,31 +85,44 @@ def plot_cdfs(results, samples, cyclone):
     return written
 
 
-def plot_scale(results, scale):
+def write_scale_dat(path, levels):
+    with open(path, "w") as f:
+        f.write("# pairs handshakes_per_s p50_ms p99_ms paced_p99_ms\n")
+        for l in levels:
+            p = l.get("paced")
+            f.write("%s %s %s %s %s\n" % (l["pairs"], l["handshakes_per_s"], l["p50"] / 1000,
+                                         l["p99"] / 1000, p["p99"] / 1000 if p else "NaN"))
+
+
+def plot_scale(results, scale, cyclone=None):
     levels = scale.get("levels") or []
     if not levels:
         return []
     dat = os.path.join(results, "scale.dat")
-    paced = [l.get("paced") for l in levels]
-    with open(dat, "w") as f:
-        f.write("# pairs handshakes_per_s p50_ms p99_ms paced_p99_ms\n")
-        for l, p in zip(levels, paced):
-            f.write("%s %s %s %s %s\n" % (l["pairs"], l["handshakes_per_s"], l["p50"] / 1000,
-                                         l["p99"] / 1000, p["p99"] / 1000 if p else "NaN"))
-    rate = next((p["offered_per_s"] for p in paced if p), None)
-    paced_plot = (', "%s" using 1:5 axes x1y2 with linespoints lw 2 dt 3 '
-                  'title "p99 paced at %g/s (ms)"' % (dat, rate)) if rate else ""
+    write_scale_dat(dat, levels)
+    rate = next((l["paced"]["offered_per_s"] for l in levels if l.get("paced")), None)
+    extra = (', "%s" using 1:5 axes x1y2 with linespoints lw 2 dt 3 '
+             'title "p99 paced at %g/s (ms)"' % (dat, rate)) if rate else ""
+    cyclone_levels = (cyclone or {}).get("levels") or []
+    if cyclone_levels:
+        cdat = os.path.join(results, "scale_cyclone.dat")
+        write_scale_dat(cdat, cyclone_levels)
+        extra += (', "%s" using 1:2 with linespoints lw 2 pt 5 title "Cyclone: handshakes/s", '
+                       '"%s" using 1:4 axes x1y2 with linespoints lw 2 dt 4 '
+                       'title "Cyclone: p99 (ms)", 20000 with lines dt 2 '
+                       'title "Cyclone target: 20,000/s"' % (cdat, cdat))
     stem = os.path.join(results, "scaling")
-    return [draw(stem, "Concurrent interface pairs between two processes (SHM+UDP)",
+    return [draw(stem, "Concurrent interface pairs between two processes "
+                 "(Fast DDS SHM+UDP; Cyclone UDP)",
                  'set xlabel "interface pairs handshaking at once"\nset logscale x\n'
                  'set ylabel "handshakes per second"\nset y2label "latency (ms, log scale)"\n'
                  "set ytics nomirror\nset y2tics\nset grid\nset key top left\n"
                  "set yrange [0:*]\nset logscale y2\n"
-                 'plot "%s" using 1:2 with linespoints lw 2 pt 7 title "handshakes/s", '
+                 'plot "%s" using 1:2 with linespoints lw 2 pt 7 title "Fast DDS: handshakes/s", '
                  '"%s" using 1:3 axes x1y2 with linespoints lw 2 title "p50 (ms)", '
                  '"%s" using 1:4 axes x1y2 with linespoints lw 2 title "p99 (ms)"%s, '
                  '5000 with lines dt 2 title "target at 100 pairs: 5,000/s"\n'
-                 % (dat, dat, dat, paced_plot))]
+                 % (dat, dat, dat, extra))]
 
 
 # placement.png: (series in dds_latency*.json, label); the Cyclone round trip
@@ -175,7 +188,7 @@ def main():
         written += plot_cdfs(results, samples, latency.get("cyclone"))
     scale = load(os.path.join(results, "scale.json"))
     if scale:
-        written += plot_scale(results, scale)
+        written += plot_scale(results, scale, load(os.path.join(results, "scale_cyclone.json")))
     one_cpu = load(os.path.join(results, "dds_latency_one_cpu.json"))
     if latency and one_cpu:
         written += plot_placement(results, latency, one_cpu)

@@ -18,6 +18,7 @@
 #   latency_cdf_shm_udp.png, latency_cdf_udp_loopback.png   latency CDFs per transport
 #   scale.json, scaling.png   mtc-bench-scale: 1/10/100 concurrent pairs (closed loop, then
 #                        paced at a fixed offered rate), 20-device start-up
+#   scale_cyclone.json   the same over Cyclone DDS (builds with MTC_CYCLONE)
 #   summary.json         all of it in one summary (machine, load, run time), checked
 #                        for completeness (benchmarks/summary.py)
 #
@@ -53,7 +54,7 @@ mkdir -p "$out"
 # Results of an earlier run must not pass for this one's.
 rm -f "$out"/{wakeup,core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
   "$out"/dds_latency_one_cpu.json \
-  "$out"/{security,scale,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling,placement}.png "$out"/cdf_*.dat
+  "$out"/{security,scale,scale_cyclone,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling,placement}.png "$out"/cdf_*.dat
 failed=()
 load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 
@@ -167,6 +168,14 @@ if [ -x "$bin/mtc-bench-scale" ]; then
   # The smoke run only checks the paced series is there: 1 s at 200/s.
   [ "$quick" = 1 ] && scale_args=(--out "$out/scale.json" --seconds 1 --startup-devices 2 --paced 200)
   run_one mtc-bench-scale "$bin/mtc-bench-scale" "${scale_args[@]}" >/dev/null
+  # Section 4's second target: 20,000 handshakes/s at 100 pairs over Cyclone.
+  if grep -q '^MTC_CYCLONE:BOOL=ON$' "$build/CMakeCache.txt"; then
+    scale_args[1]="$out/scale_cyclone.json"
+    run_one "mtc-bench-scale --middleware cyclone" "$bin/mtc-bench-scale" "${scale_args[@]}" \
+      --middleware cyclone >/dev/null
+  else
+    note "Cyclone DDS not built in (MTC_CYCLONE=OFF): scale over Cyclone skipped"
+  fi
 else
   note "mtc-bench-scale not built, skipped"
 fi

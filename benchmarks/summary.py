@@ -200,6 +200,14 @@ def required(summary):
                        ((level.get("paced") or {}).get("handshakes") or 0) > 0))
     checks.append(("scale.startup.all_ready_ms",
                    ((scale.get("startup") or {}).get("all_ready_ms") or -1) > 0))
+    # A build with Cyclone DDS measured its equipment series; then the scale
+    # levels over Cyclone belong to the run too.
+    if any("cyclone" in name for name in series):
+        cyclone_levels = {l.get("pairs"): l
+                          for l in (summary.get("scale_cyclone") or {}).get("levels") or []}
+        for pairs in (1, 10, 100):
+            checks.append(("scale_cyclone.levels[pairs=%d].handshakes" % pairs,
+                           ((cyclone_levels.get(pairs) or {}).get("handshakes") or 0) > 0))
     checks.append(("bridge.current.requests_per_second",
                    ((bridge.get("current") or {}).get("requests_per_second") or 0) > 0))
     checks.append(("bridge.dds_to_stream.from_transition_us",
@@ -243,6 +251,7 @@ def main():
         # The same benchmark with every process on one CPU (run.sh --cpus 0).
         "dds_latency_one_cpu": dds_part(load_json(os.path.join(r, "dds_latency_one_cpu.json"))),
         "scale": load_json(os.path.join(r, "scale.json")),
+        "scale_cyclone": load_json(os.path.join(r, "scale_cyclone.json")),
         "security": load_json(os.path.join(r, "security.json")),
         "bridge": bridge_part(load_json_lines(os.path.join(r, "bridge_http.json"))),
         "core": {"benchmarks": len(core.get("benchmarks", []))} if core else None,

@@ -15,6 +15,7 @@ namespace {
 using namespace std::chrono_literals;
 
 bool g_steps_on_executor = false;  // set once by main, before any thread
+mtc::dds::Middleware g_middleware = mtc::dds::Middleware::FastDds;  // likewise
 
 // Completes every request at once. The runtime may hand a request to
 // on_request before start() has returned (the executor runs while start()
@@ -69,7 +70,9 @@ mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain
   mtc::dds::EquipmentOptions o;
   o.domain_id = domain;
   o.device_uuid = uuid;
-  o.transport = mtc::qos::Transport::Loopback;
+  o.middleware = g_middleware;
+  o.transport = g_middleware == mtc::dds::Middleware::Cyclone ? mtc::qos::Transport::LoopbackUdp
+                                                              : mtc::qos::Transport::Loopback;
   o.recovery = mtc::dds::RecoveryPolicy::Always;  // a false alarm must not stall a pair
   o.steps_on_executor = g_steps_on_executor;
   return o;
@@ -77,6 +80,14 @@ mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain
 
 void set_steps_on_executor(bool on) {
   g_steps_on_executor = on;
+}
+
+void set_middleware(mtc::dds::Middleware m) {
+  g_middleware = m;
+}
+
+const char* transport_name() {
+  return g_middleware == mtc::dds::Middleware::Cyclone ? "udp_loopback" : "shm_udp";
 }
 
 mtc::dds::EquipmentCallbacks quiet_callbacks() {
@@ -129,6 +140,8 @@ pid_t spawn_peer(int devices, int interfaces, int domain) {
                                 "--domain",
                                 std::to_string(domain)};
   if (g_steps_on_executor) args.emplace_back("--steps-on-executor");
+  args.emplace_back("--middleware");
+  args.emplace_back(mtc::dds::to_string(g_middleware));
   return exec_self("mtc-bench-scale", args);
 }
 

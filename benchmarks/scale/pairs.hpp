@@ -19,11 +19,18 @@ std::string device(const char* role, int index);
 std::string interface_id(int index);
 
 // On `domain`, loopback only, recovering from every FAIL (a false alarm must
-// not stall a pair); steps as set_steps_on_executor() said.
+// not stall a pair); steps as set_steps_on_executor() said, on the DDS
+// implementation set_middleware() chose.
 mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain);
 // Both processes' EquipmentOptions::steps_on_executor (default false: the
 // runtime's default); the peer is started with the same.
 void set_steps_on_executor(bool on);
+// Both processes' middleware (default Fast DDS over shared memory and UDP;
+// Cyclone DDS 0.10 in Debian has no shared memory, so UDP on loopback); the
+// peer is started with the same.
+void set_middleware(mtc::dds::Middleware m);
+// "shm_udp" or "udp_loopback": what the pairs' samples travel over.
+const char* transport_name();
 // Quiet about the filtered false-loss notes, loud about anything else.
 mtc::dds::EquipmentCallbacks quiet_callbacks();
 // `interfaces` material-handler interfaces, each paired with the same id on `peer_device`.
