@@ -18,6 +18,7 @@ bool InterfaceModel::add_requester(Service service, const MachineOptions& option
   if (i >= requesters_.size() || requesters_[i]) return false;
   requesters_[i].emplace(service, options, hook_);
   if (state_ != InterfaceState::Enabled) requesters_[i]->disable(TimePoint{});
+  note_added(Role::Requester, service);
   return true;
 }
 
@@ -26,7 +27,19 @@ bool InterfaceModel::add_responder(Service service, const MachineOptions& option
   if (i >= responders_.size() || responders_[i]) return false;
   responders_[i].emplace(service, options, hook_);
   if (state_ != InterfaceState::Enabled) responders_[i]->disable(TimePoint{});
+  note_added(Role::Responder, service);
   return true;
+}
+
+void InterfaceModel::note_added(Role role, Service service) noexcept {
+  const auto offset = role == Role::Requester ? 0 : kAllServices.size();
+  present_[present_count_++] = static_cast<std::uint8_t>(offset + index(service));
+}
+
+const ServiceMachine& InterfaceModel::present(std::size_t k) const noexcept {
+  const std::size_t code = present_[k];
+  if (code < kAllServices.size()) return *requesters_[code];
+  return *responders_[code - kAllServices.size()];
 }
 
 Requester* InterfaceModel::requester(Service service) noexcept {
@@ -100,20 +113,14 @@ StepBatch InterfaceModel::on_tick(TimePoint now) noexcept {
 
 TimePoint InterfaceModel::next_deadline() const noexcept {
   TimePoint next = kNever;
-  for (const auto& m : requesters_) {
-    if (m && m->next_deadline() < next) next = m->next_deadline();
-  }
-  for (const auto& m : responders_) {
-    if (m && m->next_deadline() < next) next = m->next_deadline();
+  for (std::size_t k = 0; k < present_count_; ++k) {
+    next = std::min(next, present(k).next_deadline());
   }
   return next;
 }
 
 std::size_t InterfaceModel::machine_count() const noexcept {
-  std::size_t n = 0;
-  for (const auto& m : requesters_) n += m ? 1 : 0;
-  for (const auto& m : responders_) n += m ? 1 : 0;
-  return n;
+  return present_count_;
 }
 
 }  // namespace mtc::core

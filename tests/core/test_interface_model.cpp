@@ -79,6 +79,32 @@ TEST(InterfaceModel, CounterpartLostReachesEveryMachine) {
   }
 }
 
+// The earliest limit of any machine, requester or responder, whatever order
+// they were added in; a copy of the model answers from its own machines.
+TEST(InterfaceModel, NextDeadlineIsTheEarliestOfEveryMachine) {
+  MachineOptions o;
+  o.limits.response = 1s;
+  InterfaceModel m(InterfaceType::MaterialHandler, o);
+  EXPECT_EQ(m.next_deadline(), kNever);
+  EXPECT_EQ(m.machine_count(), 0u);
+  m.add_responder(Service::PartChange);
+  m.add_requester(Service::MaterialUnload);
+  m.add_requester(Service::MaterialLoad);
+  EXPECT_EQ(m.machine_count(), 3u);
+  const TimePoint t{};
+  for (auto s : {Service::MaterialLoad, Service::MaterialUnload}) {
+    m.requester(s)->on_counterpart(S::Ready, t);
+  }
+  EXPECT_EQ(m.next_deadline(), kNever);
+  m.requester(Service::MaterialUnload)->request(t + 300ms);
+  EXPECT_EQ(m.next_deadline(), t + 1300ms);
+  const InterfaceModel before_load = m;
+  m.requester(Service::MaterialLoad)->request(t + 100ms);
+  EXPECT_EQ(m.next_deadline(), t + 1100ms);
+  EXPECT_EQ(before_load.next_deadline(), t + 1300ms);
+  EXPECT_EQ(before_load.machine_count(), 3u);
+}
+
 TEST(InterfaceModel, TickFiresEveryExpiredLimit) {
   MachineOptions o;
   o.limits.response = 1s;

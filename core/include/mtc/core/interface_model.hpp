@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 
 #include "mtc/core/requester.hpp"
@@ -86,12 +87,23 @@ class InterfaceModel {
   template <typename Fn>
   StepBatch for_each_machine(Fn&& fn) noexcept;
 
+  // Which machines exist, in the order they were added: (role, service)
+  // coded as one byte (responders from kAllServices.size() up). The runtime
+  // asks next_deadline() of every interface after every step; visiting the
+  // machines that exist, not twenty optionals of a few hundred bytes each,
+  // keeps that from dominating the CPU of an equipment with 100 interfaces.
+  // Indices, not pointers, so that the model stays a copyable value.
+  void note_added(Role role, Service service) noexcept;
+  const ServiceMachine& present(std::size_t k) const noexcept;
+
   InterfaceType type_;
   MachineOptions options_;
   const ServicePreconditions* hook_;
   InterfaceState state_ = InterfaceState::Enabled;
   std::array<std::optional<Requester>, kAllServices.size()> requesters_{};
   std::array<std::optional<Responder>, kAllServices.size()> responders_{};
+  std::array<std::uint8_t, StepBatch::kCapacity> present_{};
+  std::size_t present_count_ = 0;
 };
 
 }  // namespace mtc::core
