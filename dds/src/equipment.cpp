@@ -66,6 +66,22 @@ std::future<R> EquipmentImpl::run(Fn fn) {
   return future;
 }
 
+template <typename Fn>
+void EquipmentImpl::run_unawaited(const char* what, Fn fn) {
+  if (!started.load()) {
+    throw ConfigError("Equipment " + options.device_uuid + ": call start() first");
+  }
+  executor.dispatch([this, what, fn = std::move(fn)]() mutable {
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      diagnostic(std::string(what) + " failed: " + e.what());
+    } catch (...) {
+      diagnostic(std::string(what) + " failed with an unknown exception");
+    }
+  });
+}
+
 // ------------------------------------------------------------ ServiceHandle
 
 const std::string& ServiceHandle::interface_id() const noexcept {
@@ -117,7 +133,7 @@ void Requester::request(RequestOptions options,
                         std::function<void(const RequestResult&)> on_result) {
   auto* impl = &impl_;
   const auto slot = slot_;
-  impl_.run<void>([impl, slot, options, cb = std::move(on_result)]() mutable {
+  impl_.run_unawaited("request", [impl, slot, options, cb = std::move(on_result)]() mutable {
     auto& s = *impl->slots[slot];
     impl->check_own_silence();  // before trusting what we last saw
     const auto now = SteadyClock::now();
@@ -306,7 +322,7 @@ std::future<void> Equipment::set_interface_state(const std::string& interface_id
   auto* itf = &impl->interface_slot(interface_id);
   return impl->run<void>([impl, itf, state] {
     const auto now = SteadyClock::now();
-    const auto batch = itf->model->set_interface_state(state, now);
+    const auto batch = itf->model_to_change().set_interface_state(state, now);
     impl->publish_interface_state(*itf, topics::realtime_ns());
     impl->handle_batch(*itf, batch);
   });
@@ -325,7 +341,7 @@ std::future<void> EquipmentImpl::set_door_chuck(const std::string& interface_id,
     itf->door_chuck_item<State>().state = state;
     detail::DoorChuck<State>::apply(itf->hook, state);
     publish_door_chuck<State>(*itf, topics::realtime_ns());
-    handle_batch(*itf, itf->model->reevaluate(SteadyClock::now()));
+    handle_batch(*itf, itf->model_to_change().reevaluate(SteadyClock::now()));
   });
 }
 

@@ -75,16 +75,7 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   const auto verdict = peer_checks.check(group, e.writer, v);
   if (verdict.report) diagnostic(*verdict.report);
   if (!verdict.use) return;
-  // Assigned in place, here and below: a value of an item seen before
-  // reuses the strings' storage instead of allocating it again.
-  writer_device[e.writer] = v.device_uuid;
-  auto& owner = instance_item[{e.topic, e.instance}];
-  owner.device = v.device_uuid;
-  owner.interface_id = v.interface_id;
-  owner.item = v.data_item_id;
-  owner.group = 0;
-  owner.participant = detail::participant_of(e.writer);
-  writer_interfaces[e.writer].insert(v.interface_id);
+  auto& instance = note_instance(e, v);
   peer_groups.on_value(e.writer, e.topic, v);
   // A change number that skips ahead means this writer changed something we
   // never saw (KEEP_LAST 1 replaced it before delivery, e.g. after a loss).
@@ -93,6 +84,7 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
   const bool missed_change = last != 0 && v.sequence_number > last + 1;
   last = std::max(last, v.sequence_number);
 
+  const auto hash = InterfaceSlot::counterpart_hash(v.device_uuid, v.interface_id);
   for (auto& itf : interfaces) {
     // Each timing group's readers feed only that group's interfaces.
     if (itf->group != group) continue;
@@ -105,20 +97,50 @@ void EquipmentImpl::on_value(std::size_t group, detail::ValueEvent& e) {
           *v.sub_type == core::SubType::Request ? core::Role::Responder : core::Role::Requester;
       if (slot_for(*itf, *v.service, role)) try_bind(*itf, v.device_uuid, v.interface_id);
     }
-    if (itf->cp_uuid != v.device_uuid || itf->cp_interface != v.interface_id) continue;
+    if (!itf->is_counterpart(v.device_uuid, v.interface_id, hash)) continue;
     // Not an answer to us: the counterpart states its values again for us
     // once it has taken us for its counterpart (note_counterpart_value).
     if (written_for_predecessor(*itf, v, e.paired)) continue;
     take_counterpart_value(*itf, e.writer, v, e.heard_ns, missed_change);
   }
   // After the interfaces: a pairing above replays what was seen before.
-  auto& seen = detail::find_or_add(
-      seen_values, std::pair<std::string_view, std::string_view>(v.device_uuid, v.data_item_id),
-      [&] { return std::pair(v.device_uuid, v.data_item_id); });
+  // Found once per instance: a search of every item of 100 interfaces, for
+  // every value, was the costliest lookup of this function.
+  if (instance.seen == nullptr) {
+    instance.seen = &detail::find_or_add(
+        seen_values, std::pair<std::string_view, std::string_view>(v.device_uuid, v.data_item_id),
+        [&] { return std::pair(v.device_uuid, v.data_item_id); });
+  }
+  auto& seen = *instance.seen;
   seen.writer = e.writer;
   seen.value = v;
   seen.paired = e.paired;
   seen.heard_ns = e.heard_ns;
+}
+
+// Which device, interface and item a value instance is, and which device and
+// interfaces its writer speaks for. Nothing of it changes while the same
+// writer writes the same item again (the tables only grow), so only the
+// first value of an instance, or one from another writer, costs the lookups.
+EquipmentImpl::InstanceOwner& EquipmentImpl::note_instance(const detail::ValueEvent& e,
+                                                           const ObservedValue& v) {
+  auto& owner = instance_item[{e.topic, e.instance}];
+  if (owner.writer == e.writer && owner.device == v.device_uuid &&
+      owner.interface_id == v.interface_id && owner.item == v.data_item_id) {
+    return owner;
+  }
+  // Assigned in place: a value of an item seen before reuses the strings'
+  // storage instead of allocating it again.
+  writer_device[e.writer] = v.device_uuid;
+  owner.device = v.device_uuid;
+  owner.interface_id = v.interface_id;
+  owner.item = v.data_item_id;
+  owner.group = 0;
+  owner.participant = detail::participant_of(e.writer);
+  owner.writer = e.writer;
+  owner.seen = nullptr;
+  writer_interfaces[e.writer].insert(v.interface_id);
+  return owner;
 }
 
 // Remembers a counterpart value (the last of each item is fed again after a
@@ -147,7 +169,7 @@ void EquipmentImpl::note_counterpart_value(InterfaceSlot& itf, const detail::Han
   if (new_incarnation && started) publish_pairing(itf);
   itf.cp_values[v.data_item_id] = v;
   itf.cp_stale.erase(v.data_item_id);
-  itf.last_heard_steady_ns = std::max(itf.last_heard_steady_ns, heard_ns);
+  heard(itf, heard_ns);
 }
 
 // Hands one counterpart value to the application and, for an interaction
@@ -201,7 +223,7 @@ void EquipmentImpl::on_heartbeat(std::size_t group, detail::HeartbeatEvent& e) {
   }
   for (auto& itf : interfaces) {
     if (itf->group != group || !itf->cp_group || !(*itf->cp_group == key)) continue;
-    itf->last_heard_steady_ns = std::max(itf->last_heard_steady_ns, e.heard_ns);
+    heard(*itf, e.heard_ns);
     if (!peer_groups.in_step(pg)) continue;
     // A counterpart that declared its interface UNAVAILABLE stays lost
     // however well it heartbeats.
@@ -233,7 +255,7 @@ void EquipmentImpl::redeliver_stale(InterfaceSlot& itf) {
 void EquipmentImpl::feed_counterpart(ServiceSlot& slot, const ObservedValue& v,
                                      bool missed_change) {
   auto& itf = *interfaces[slot.interface_index];
-  auto* machine = itf.model->machine(slot.service, slot.role);
+  auto* machine = itf.model_to_change().machine(slot.service, slot.role);
   const auto now = SteadyClock::now();
   const auto parsed = v.state.interaction();
   core::StepResult r;
@@ -324,7 +346,20 @@ std::chrono::nanoseconds backstop_silence(const qos::Timing& timing) {
 }
 }  // namespace
 
+// A counterpart heard from at heard_ns (steady): its silence counts from
+// the newest hearing.
+void EquipmentImpl::heard(InterfaceSlot& itf, std::int64_t heard_ns) {
+  // The first hearing of an Up interface brings the silence check forward.
+  if (itf.last_heard_steady_ns == 0 && heard_ns != 0) silence_check_at.reset();
+  itf.last_heard_steady_ns = std::max(itf.last_heard_steady_ns, heard_ns);
+}
+
+// Kept between calls, as next_wake asks after every step: only a link going
+// Up or a first hearing (both reset it) can bring the answer forward. A
+// newer hearing only makes the kept answer early, and the early wake-up
+// runs check_silence, which finds nothing and lets it be computed again.
 SteadyClock::time_point EquipmentImpl::next_silence_check() const {
+  if (silence_check_at) return *silence_check_at;
   auto wake = SteadyClock::time_point::max();
   for (const auto& itf : interfaces) {
     if (itf->link.load() != LinkState::Up || itf->last_heard_steady_ns == 0) continue;
@@ -333,10 +368,12 @@ SteadyClock::time_point EquipmentImpl::next_silence_check() const {
     wake = std::min(
         wake, SteadyClock::time_point(std::chrono::duration_cast<SteadyClock::duration>(due)));
   }
+  silence_check_at = wake;
   return wake;
 }
 
 void EquipmentImpl::check_silence() {
+  silence_check_at.reset();
   const auto now = detail::steady_ns();
   SilentOwners silent;
   for (auto& itf : interfaces) {
@@ -480,7 +517,7 @@ void EquipmentImpl::link_lost(InterfaceSlot& itf, const std::string& cause) {
   for (const auto& [id, value] : itf.cp_values) itf.cp_stale.insert(id);
   set_link(itf, LinkState::Lost, cause);
   reannounce.lost(SteadyClock::now());  // the far side may drop us: see reannounce.hpp
-  handle_batch(itf, itf.model->counterpart_lost(SteadyClock::now()));
+  handle_batch(itf, itf.model_to_change().counterpart_lost(SteadyClock::now()));
 }
 
 void EquipmentImpl::link_up(InterfaceSlot& itf, const char* cause) {
@@ -496,6 +533,7 @@ void EquipmentImpl::set_link(InterfaceSlot& itf, LinkState next, const std::stri
     ev.counterpart_interface_id = itf.cp_interface;
   }
   ev.previous = itf.link.exchange(next);
+  if (next == LinkState::Up) silence_check_at.reset();  // see next_silence_check
   ev.current = next;
   ev.cause = cause;
   ev.time_ns = topics::realtime_ns();

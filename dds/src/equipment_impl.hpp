@@ -4,13 +4,17 @@
 
 #include <array>
 #include <atomic>
+#include <cstring>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -86,6 +90,7 @@ template <typename State>
 struct DoorChuckWriter {
   std::unique_ptr<mw::ValueWriter> writer;
   std::uint64_t seq = 0;
+  std::uint64_t history_scan_at = 0;  // see bound_history
 };
 
 // The writer of one interaction topic (service and side) and its change
@@ -93,6 +98,7 @@ struct DoorChuckWriter {
 struct InteractionWriter {
   std::unique_ptr<mw::ValueWriter> writer;
   std::uint64_t seq = 0;
+  std::uint64_t history_scan_at = 0;  // see bound_history
 };
 
 // Writers, readers and heartbeat of the interfaces sharing one timing
@@ -108,6 +114,7 @@ struct TimingGroup {
   std::tuple<DoorChuckWriter<core::DoorState>, DoorChuckWriter<core::ChuckState>> door_chuck;
   std::unique_ptr<mw::HeartbeatWriter> heartbeat_writer;
   std::uint64_t interface_seq = 0;
+  std::uint64_t interface_history_scan_at = 0;  // see bound_history
   // Change numbers already written, per state topic and per interaction
   // topic: what the heartbeat announces (written on the executor, read by
   // the heartbeat thread).
@@ -124,15 +131,26 @@ struct TimingGroup {
   }
 };
 
-struct InterfaceSlot {
-  InterfaceConfig config;
+// on_value asks every interface for every value received, next_wake after
+// every step: what they read of each shares its first cache line.
+struct alignas(64) InterfaceSlot {
   std::size_t group = 0;  // index into EquipmentImpl::groups
+  std::atomic<LinkState> link{LinkState::Unpaired};
+  // When the election among candidates is due (pairing by rule, below).
+  std::optional<SteadyClock::time_point> elect_at;
+
+ private:
+  std::size_t cp_hash_ = counterpart_hash({}, {});
+  mutable SteadyClock::time_point deadline_{};
+  mutable bool deadline_known_ = false;
+
+ public:
+  InterfaceConfig config;
   core::DoorChuckPreconditions hook;
-  std::unique_ptr<core::InterfaceModel> model;
   std::vector<std::size_t> services;  // indices into EquipmentImpl::slots
   PublishedItem state_item;
   std::tuple<DoorChuckItem<core::DoorState>, DoorChuckItem<core::ChuckState>> door_chuck;
-  // Counterpart binding and link.
+  // Counterpart binding and link; set with name_counterpart.
   std::string cp_uuid;
   std::string cp_interface;
   // Which of the counterpart device's heartbeats vouches for its interface
@@ -144,18 +162,61 @@ struct InterfaceSlot {
   std::set<std::string> cp_stale;
   // When the newest value or heartbeat of the counterpart came (steady_ns).
   std::int64_t last_heard_steady_ns = 0;
-  std::atomic<LinkState> link{LinkState::Unpaired};
   // Pairing by rule (no counterpart device configured): every complementary
-  // interface announced (device uuid, interface id), and when the election
-  // among them is due (set by the first candidate while unpaired).
+  // interface announced (device uuid, interface id); elect_at (above) is set
+  // by the first candidate while unpaired.
   std::set<std::pair<std::string, std::string>> candidates;
-  std::optional<SteadyClock::time_point> elect_at;
   bool paired_by_rule() const { return config.counterpart.device_uuid.empty(); }
 
   template <typename State>
   DoorChuckItem<State>& door_chuck_item() {
     return std::get<DoorChuckItem<State>>(door_chuck);
   }
+
+  // Sets or (with empty ids) clears the counterpart's ids; the caller holds
+  // EquipmentImpl::binding_mutex.
+  void name_counterpart(const std::string& device, const std::string& interface_id) {
+    cp_uuid = device;
+    cp_interface = interface_id;
+    cp_hash_ = counterpart_hash(device, interface_id);
+  }
+  // Whether a value of (device, interface_id), whose counterpart_hash is
+  // `hash`, comes from our counterpart interface. on_value asks every
+  // interface for every value: the hash spares 100 string compares.
+  bool is_counterpart(std::string_view device, std::string_view interface_id,
+                      std::size_t hash) const {
+    return cp_hash_ == hash && cp_uuid == device && cp_interface == interface_id;
+  }
+  static std::size_t counterpart_hash(std::string_view device, std::string_view interface_id) {
+    const std::size_t d = std::hash<std::string_view>{}(device);
+    return d ^ (std::hash<std::string_view>{}(interface_id) + 0x9e3779b97f4a7c15ULL + (d << 6) +
+                (d >> 2));
+  }
+
+  void set_model(std::unique_ptr<core::InterfaceModel> m) {
+    model_ = std::move(m);
+    deadline_known_ = false;
+  }
+  const core::InterfaceModel& model() const { return *model_; }
+  // Every change to the machines goes through here, and forgets the cached
+  // deadline: next_wake asks every interface after every step, and with 100
+  // interfaces recomputing each one's was a tenth of the runtime's CPU.
+  core::InterfaceModel& model_to_change() {
+    deadline_known_ = false;
+    return *model_;
+  }
+  // The machines' next time limit (core::InterfaceModel::next_deadline, a
+  // function of their state alone), computed again only after a change.
+  SteadyClock::time_point next_deadline() const {
+    if (!deadline_known_) {
+      deadline_ = model_->next_deadline();
+      deadline_known_ = true;
+    }
+    return deadline_;
+  }
+
+ private:
+  std::unique_ptr<core::InterfaceModel> model_;
 };
 
 struct EquipmentImpl {
@@ -170,26 +231,6 @@ struct EquipmentImpl {
 
   // Which counterpart writer / instance belongs to which device and item.
   std::map<detail::Handle, std::string> writer_device;
-  struct InstanceOwner {
-    std::string device;
-    std::string interface_id;
-    std::string item;
-    std::uint32_t group = 0;               // heartbeat instances
-    detail::ParticipantKey participant{};  // the incarnation that last wrote it
-  };
-  std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
-  std::set<detail::Handle> description_writers;
-  detail::DeviceOwners owners;  // who announced each counterpart device
-  // Incarnations that said they are leaving: what they write later is not news.
-  detail::LeftIncarnations left_incarnations;
-  bool from_left_incarnation(const detail::Handle& writer) const {
-    return left_incarnations.wrote(writer);
-  }
-  std::map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner> instance_item;
-  // Last change number per (timing group whose tap saw it, writer).
-  std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
-  detail::PeerGroups peer_groups;
-  detail::PeerChecks peer_checks;  // what a peer writes that the types cannot forbid
   // The last value of every item of every device our readers saw, paired or
   // not: an interface that pairs later starts from what is already known
   // (items are written on change only; nothing else would bring them).
@@ -199,6 +240,42 @@ struct EquipmentImpl {
     detail::ParticipantKey paired{};
     std::int64_t heard_ns = 0;  // steady_ns
   };
+  struct InstanceOwner {
+    std::string device;
+    std::string interface_id;
+    std::string item;
+    std::uint32_t group = 0;               // heartbeat instances
+    detail::ParticipantKey participant{};  // the incarnation that last wrote it
+    detail::Handle writer{};               // of a value instance: its last writer
+    SeenValue* seen = nullptr;             // its entry in seen_values (never erased)
+  };
+  // Hashes the 16 bytes of an instance handle and its topic: looked up for
+  // every value received, where a tree of every item of 100 interfaces
+  // compared the 16 bytes a dozen times.
+  struct InstanceKeyHash {
+    std::size_t operator()(const std::pair<detail::TopicKind, detail::Handle>& key) const noexcept {
+      std::uint64_t low = 0;
+      std::uint64_t high = 0;
+      std::memcpy(&low, key.second.data(), sizeof low);
+      std::memcpy(&high, key.second.data() + sizeof low, sizeof high);
+      return static_cast<std::size_t>((low ^ (high * 0x9e3779b97f4a7c15ULL)) * 31U +
+                                      static_cast<std::uint64_t>(key.first));
+    }
+  };
+  std::map<detail::Handle, std::set<std::string>> writer_interfaces;  // interfaces it feeds
+  std::set<detail::Handle> description_writers;
+  detail::DeviceOwners owners;  // who announced each counterpart device
+  // Incarnations that said they are leaving: what they write later is not news.
+  detail::LeftIncarnations left_incarnations;
+  bool from_left_incarnation(const detail::Handle& writer) const {
+    return left_incarnations.wrote(writer);
+  }
+  std::unordered_map<std::pair<detail::TopicKind, detail::Handle>, InstanceOwner, InstanceKeyHash>
+      instance_item;
+  // Last change number per (timing group whose tap saw it, writer).
+  std::map<std::pair<std::size_t, detail::Handle>, std::uint64_t> writer_seq;
+  detail::PeerGroups peer_groups;
+  detail::PeerChecks peer_checks;  // what a peer writes that the types cannot forbid
   std::map<std::pair<std::string, std::string>, SeenValue, detail::ViewLess> seen_values;
 
   // Samples written (any thread), for Equipment::traffic().
@@ -227,6 +304,13 @@ struct EquipmentImpl {
   void shutdown() noexcept;
   template <typename R, typename Fn>
   std::future<R> run(Fn fn);
+  // Runs fn() on the executor as run() does, for a caller that wants no
+  // result (request() with a callback: the outcome goes to the callback).
+  // A future costs a promise, a report to settle it and, under std::promise,
+  // a futex wake (glibc's pthread_once) on every call. What fn throws is
+  // reported as a diagnostic naming `what`.
+  template <typename Fn>
+  void run_unawaited(const char* what, Fn fn);
   // Equipment::set_door_state / set_chuck_state.
   template <typename State>
   std::future<void> set_door_chuck(const std::string& interface_id, State state);
@@ -248,9 +332,10 @@ struct EquipmentImpl {
   void wrote_interaction(TimingGroup& g, std::size_t topic, std::uint64_t seq);
   // --- history span (equipment_history.cpp) ---
   // One writer's history: (group, topic), and for the interaction topics
-  // (Request, Response) its interaction_index.
-  void bound_history(std::size_t group, detail::TopicKind topic,
-                     std::size_t interaction = detail::kInteractionTopicCount);
+  // (Request, Response) its interaction_index; `newest` is the writer's
+  // change number, `scan_at` the first at which its items must be looked at.
+  void bound_history(std::size_t group, detail::TopicKind topic, std::size_t interaction,
+                     std::uint64_t newest, std::uint64_t& scan_at);
   template <typename Fn>
   void for_each_item(std::size_t group, detail::TopicKind topic, std::size_t interaction, Fn&& fn);
   bool bounding_history = false;
@@ -282,6 +367,7 @@ struct EquipmentImpl {
   // --- DDS events (equipment_events.cpp) ---
   void on_event(std::size_t group, detail::TapEvent& event);
   void on_value(std::size_t group, detail::ValueEvent& e);
+  InstanceOwner& note_instance(const detail::ValueEvent& e, const ObservedValue& v);
   // heard_ns: when the value came (steady_ns).
   void note_counterpart_value(InterfaceSlot& itf, const detail::Handle& writer,
                               const ObservedValue& v, std::int64_t heard_ns);
@@ -301,6 +387,8 @@ struct EquipmentImpl {
                       bool check_silence);
   void on_deadline_missed(std::size_t group);
   SteadyClock::time_point next_silence_check() const;
+  mutable std::optional<SteadyClock::time_point> silence_check_at;  // see next_silence_check
+  void heard(InterfaceSlot& itf, std::int64_t heard_ns);
   void check_silence();
   void on_heartbeat_writer_lost(std::size_t group, const detail::PeerGroupKey& key,
                                 const char* cause, bool check_silence);

@@ -42,7 +42,7 @@ core::StepResult EquipmentImpl::apply(ServiceSlot& slot, core::Event event,
                                       SteadyClock::time_point now, std::int64_t source_ns,
                                       std::int64_t receive_ns) {
   auto& itf = *interfaces[slot.interface_index];
-  const auto r = itf.model->machine(slot.service, slot.role)->step(event, now);
+  const auto r = itf.model_to_change().machine(slot.service, slot.role)->step(event, now);
   handle_result(slot, r, source_ns, receive_ns);
   return r;
 }
@@ -58,7 +58,7 @@ void EquipmentImpl::handle_batch(InterfaceSlot& itf, const core::StepBatch& batc
 void EquipmentImpl::handle_result(ServiceSlot& slot, const core::StepResult& r,
                                   std::int64_t source_ns, std::int64_t receive_ns) {
   auto& itf = *interfaces[slot.interface_index];
-  auto* machine = itf.model->machine(slot.service, slot.role);
+  const auto* machine = itf.model().machine(slot.service, slot.role);
   TransitionEvent ev;
   ev.step_time_ns = topics::realtime_ns();
   if (r.changed()) {
@@ -103,7 +103,7 @@ void EquipmentImpl::handle_result(ServiceSlot& slot, const core::StepResult& r,
 
 void EquipmentImpl::auto_recover(ServiceSlot& slot, SteadyClock::time_point now) {
   auto& itf = *interfaces[slot.interface_index];
-  auto* machine = itf.model->machine(slot.service, slot.role);
+  const auto* machine = itf.model().machine(slot.service, slot.role);
   if (machine->state() != core::InteractionState::Fail || !machine->fail_acknowledged() ||
       itf.link.load() != LinkState::Up) {
     return;
@@ -155,7 +155,7 @@ void EquipmentImpl::try_issue(ServiceSlot& slot, SteadyClock::time_point now) {
     end_pending(slot, Outcome::Excluded, core::Reason::None);
     return;
   }
-  auto* machine = itf.model->machine(slot.service, slot.role);
+  const auto* machine = itf.model().machine(slot.service, slot.role);
   // The response must name this interface: a responder not paired yet
   // reads no request, one paired with another never will (exclude()).
   const bool both_ready = machine->state() == core::InteractionState::Ready &&
@@ -185,7 +185,7 @@ void EquipmentImpl::end_pending(ServiceSlot& slot, Outcome outcome, core::Reason
 SteadyClock::time_point EquipmentImpl::next_wake() const {
   auto wake = std::min(next_silence_check(), next_election());
   wake = std::min(wake, reannounce.next());
-  for (const auto& itf : interfaces) wake = std::min(wake, itf->model->next_deadline());
+  for (const auto& itf : interfaces) wake = std::min(wake, itf->next_deadline());
   for (const auto& s : slots) {
     if (s->pending && !s->pending->issued) wake = std::min(wake, s->pending->ready_deadline);
   }
@@ -198,8 +198,8 @@ void EquipmentImpl::on_wake(SteadyClock::time_point now) {
   reannounce_due(now);
   for (auto& itf : interfaces) {
     // At most one limit per machine per on_tick; bounded loop for safety.
-    for (int i = 0; i < 32 && itf->model->next_deadline() <= now; ++i) {
-      handle_batch(*itf, itf->model->on_tick(now));
+    for (int i = 0; i < 32 && itf->next_deadline() <= now; ++i) {
+      handle_batch(*itf, itf->model_to_change().on_tick(now));
     }
   }
   for (auto& s : slots) {

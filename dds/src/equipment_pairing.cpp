@@ -54,8 +54,7 @@ void EquipmentImpl::name_configured_counterparts() {
   for (auto& itf : interfaces) {
     const auto& spec = itf->config.counterpart;
     if (spec.device_uuid.empty() || spec.interface_id.empty()) continue;
-    itf->cp_uuid = spec.device_uuid;
-    itf->cp_interface = spec.interface_id;
+    itf->name_counterpart(spec.device_uuid, spec.interface_id);
   }
 }
 
@@ -75,8 +74,7 @@ bool EquipmentImpl::try_bind(InterfaceSlot& itf, const std::string& device,
   {
     std::lock_guard<std::mutex> lock(binding_mutex);
     changed = itf.cp_uuid != device || itf.cp_interface != interface_id;
-    itf.cp_uuid = device;
-    itf.cp_interface = interface_id;
+    itf.name_counterpart(device, interface_id);
   }
   itf.elect_at.reset();
   set_link(itf, LinkState::Paired, "paired with " + ref(device, interface_id));
@@ -117,7 +115,7 @@ void EquipmentImpl::take_counterpart_value(InterfaceSlot& itf, const detail::Han
   // A value replayed after the election was received before it: the
   // heartbeats heard since then say the counterpart is alive now.
   if (const auto* pg = peer_groups.find(*itf.cp_group)) {
-    itf.last_heard_steady_ns = std::max(itf.last_heard_steady_ns, pg->last_heartbeat_steady_ns);
+    heard(itf, pg->last_heartbeat_steady_ns);
   }
   if (v.state.interface_state() == core::InterfaceState::Unavailable) {
     if (callbacks.on_counterpart_value) {
@@ -216,8 +214,7 @@ void EquipmentImpl::unpair(InterfaceSlot& itf, const std::string& cause) {
   link_lost(itf, cause);
   {
     std::lock_guard<std::mutex> lock(binding_mutex);
-    itf.cp_uuid.clear();
-    itf.cp_interface.clear();
+    itf.name_counterpart({}, {});
   }
   itf.cp_group.reset();
   itf.cp_values.clear();
@@ -245,7 +242,7 @@ void EquipmentImpl::exclude(InterfaceSlot& itf, const ObservedValue& v) {
     if (!slot.pending) continue;
     const bool issued = slot.pending->issued;
     end_pending(slot, Outcome::Excluded, core::Reason::None);
-    const auto* machine = itf.model->machine(slot.service, slot.role);
+    const auto* machine = itf.model().machine(slot.service, slot.role);
     if (issued && machine->state() == core::InteractionState::Active) {
       apply(slot, core::Event::Fail, now);
     }

@@ -161,7 +161,7 @@ void EquipmentImpl::create_entities() {
   for (auto& itf : interfaces) {
     core::MachineOptions defaults;
     defaults.profile = options.profile;
-    itf->model = std::make_unique<core::InterfaceModel>(itf->config.type, defaults, &itf->hook);
+    itf->set_model(std::make_unique<core::InterfaceModel>(itf->config.type, defaults, &itf->hook));
     for (auto index : itf->services) {
       auto& s = *slots[index];
       core::MachineOptions mo = defaults;
@@ -169,11 +169,11 @@ void EquipmentImpl::create_entities() {
       mo.start_ready = s.options.start_ready;
       mo.counterpart_has_fail = s.options.counterpart_has_fail;
       if (s.role == core::Role::Requester) {
-        itf->model->add_requester(s.service, mo);
+        itf->model_to_change().add_requester(s.service, mo);
       } else {
-        itf->model->add_responder(s.service, mo);
+        itf->model_to_change().add_responder(s.service, mo);
       }
-      s.snap_state = itf->model->machine(s.service, s.role)->state();
+      s.snap_state = itf->model().machine(s.service, s.role)->state();
       publish_interaction(s, now_ns);
     }
     publish_interface_state(*itf, now_ns);
@@ -310,7 +310,7 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
   fill_common(v, options.device_uuid, itf.config.id, itf.group, slot.item, w.seq);
   v.service = slot.service;
   v.sub_type = request ? core::SubType::Request : core::SubType::Response;
-  v.state = itf.model->machine(slot.service, slot.role)->state();
+  v.state = itf.model().machine(slot.service, slot.role)->state();
   {
     std::lock_guard<std::mutex> lock(binding_mutex);
     v.paired_device_uuid = itf.cp_uuid;
@@ -320,7 +320,8 @@ void EquipmentImpl::publish_interaction(ServiceSlot& slot, std::int64_t now_ns) 
   if (itf.cp_group) paired = itf.cp_group->participant;
   w.writer->write(v, paired);
   wrote_interaction(g, slot.topic, w.seq);
-  bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response, slot.topic);
+  bound_history(itf.group, request ? TopicKind::Request : TopicKind::Response, slot.topic, w.seq,
+                w.history_scan_at);
 }
 
 void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, std::int64_t now_ns) {
@@ -328,10 +329,11 @@ void EquipmentImpl::publish_interface_state(InterfaceSlot& itf, std::int64_t now
   touch(itf.state_item, g.interface_seq, now_ns);
   auto& v = out_value;
   fill_common(v, options.device_uuid, itf.config.id, itf.group, itf.state_item, g.interface_seq);
-  v.state = itf.model->interface_state();
+  v.state = itf.model().interface_state();
   g.interface_writer->write(v, {});
   wrote(g, TopicKind::InterfaceState, g.interface_seq);
-  bound_history(itf.group, TopicKind::InterfaceState);
+  bound_history(itf.group, TopicKind::InterfaceState, detail::kInteractionTopicCount,
+                g.interface_seq, g.interface_history_scan_at);
 }
 
 template <typename State>
@@ -346,7 +348,8 @@ void EquipmentImpl::publish_door_chuck(InterfaceSlot& itf, std::int64_t now_ns) 
   v.state = item.state;
   w.writer->write(v, {});
   wrote(g, detail::DoorChuck<State>::kTopic, w.seq);
-  bound_history(itf.group, detail::DoorChuck<State>::kTopic);
+  bound_history(itf.group, detail::DoorChuck<State>::kTopic, detail::kInteractionTopicCount, w.seq,
+                w.history_scan_at);
 }
 template void EquipmentImpl::publish_door_chuck<core::DoorState>(InterfaceSlot&, std::int64_t);
 template void EquipmentImpl::publish_door_chuck<core::ChuckState>(InterfaceSlot&, std::int64_t);

@@ -25,10 +25,11 @@ bool leapt(std::uint64_t newest, std::uint64_t received) {
 PeerChecks::Verdict PeerChecks::check(std::size_t group, const Handle& writer,
                                       const ObservedValue& value) {
   Verdict verdict;
-  const std::string_view item = value.data_item_id;
-  auto& reported = find_or_add(reported_, std::pair(writer, item), [&] {
-    return ItemKey{writer, value.data_item_id};
-  });
+  auto& items = items_[writer];
+  auto it = items.find(std::string_view(value.data_item_id));
+  if (it == items.end()) it = items.emplace(value.data_item_id, ItemRecord{}).first;
+  auto& record = it->second;
+  auto& reported = record.reported;
   const auto report_once = [&](bool& flag, std::string text) {
     if (flag || verdict.report) return;
     flag = true;
@@ -45,9 +46,7 @@ PeerChecks::Verdict PeerChecks::check(std::size_t group, const Handle& writer,
     report_once(reported.state,
                 "state " + std::to_string(value.state.raw()) + " is outside its vocabulary");
   }
-  auto& newest = find_or_add(newest_, std::tuple(writer, group, item), [&] {
-    return GroupItemKey{writer, group, value.data_item_id};
-  });
+  auto& newest = record.newest_of(group);
   // Text only when there is something to say: this runs for every sample.
   const auto numbers = [&] {
     return " from " + std::to_string(newest) + " to " + std::to_string(value.sequence_number);
@@ -72,17 +71,17 @@ std::optional<std::string> PeerChecks::refused(const ProtocolViolationEvent& eve
   return protocol_violation(event);
 }
 
+std::uint64_t& PeerChecks::ItemRecord::newest_of(std::size_t group) {
+  for (auto& [g, seq] : newest) {
+    if (g == group) return seq;
+  }
+  return newest.emplace_back(group, 0).second;
+}
+
 void PeerChecks::forget_writer(const Handle& writer) {
   refused_.erase(refused_.lower_bound({writer, 0}),
                  refused_.lower_bound({writer, std::numeric_limits<std::size_t>::max()}));
-  for (auto it = newest_.lower_bound(GroupItemKey{writer, 0, std::string()});
-       it != newest_.end() && std::get<0>(it->first) == writer;) {
-    it = newest_.erase(it);
-  }
-  for (auto it = reported_.lower_bound(ItemKey{writer, std::string()});
-       it != reported_.end() && it->first.first == writer;) {
-    it = reported_.erase(it);
-  }
+  items_.erase(writer);
 }
 
 }  // namespace mtc::dds::detail

@@ -18,12 +18,13 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
 #include <string>
-#include <tuple>
 #include <utility>
+#include <vector>
 
 #include "lookup_keys.hpp"
 #include "mw/tap_events.hpp"
@@ -52,18 +53,24 @@ class PeerChecks {
   void forget_writer(const Handle& writer);
 
  private:
-  // Change numbers per local group (each group's reader gets its own copy,
-  // at its own pace); reports per writer and item, whichever group saw it.
-  using ItemKey = std::pair<Handle, std::string>;                     // writer, item
-  using GroupItemKey = std::tuple<Handle, std::size_t, std::string>;  // writer, group, item
   struct Reported {
     bool state = false;
     bool vocabulary = false;
     bool back = false;
     bool leap = false;
   };
-  std::map<GroupItemKey, std::uint64_t, ViewLess> newest_;
-  std::map<ItemKey, Reported, ViewLess> reported_;
+  // What is known of one writer's item: reports whichever group saw it, and
+  // change numbers per local group (each group's reader gets its own copy,
+  // at its own pace; there are few groups, searched in order).
+  struct ItemRecord {
+    Reported reported;
+    std::vector<std::pair<std::size_t, std::uint64_t>> newest;
+    std::uint64_t& newest_of(std::size_t group);
+  };
+  // Per writer, then per item. Every item of a writer has the same writer
+  // key, so one map keyed by (writer, item) compared the 16 bytes of the
+  // writer again at every step of every search; this runs for every sample.
+  std::map<Handle, std::map<std::string, ItemRecord, std::less<>>> items_;
   std::set<std::pair<Handle, std::size_t>> refused_;  // writer, interaction topic
 };
 
