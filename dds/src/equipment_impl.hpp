@@ -27,6 +27,7 @@
 #include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/dds/equipment.hpp"
 #include "mw/middleware.hpp"
+#include "mw/write_batch.hpp"
 #include "peer_checks.hpp"
 #include "peer_groups.hpp"
 #include "reannounce.hpp"
@@ -461,6 +462,8 @@ struct EquipmentImpl {
     if (defer_reports) {
       executor.post_report(std::move(settle));
     } else {
+      // Run with the step: what it wrote leaves first (mw::WriteBatch).
+      mw::WriteBatch::send_now();
       settle();
     }
   }

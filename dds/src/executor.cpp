@@ -7,6 +7,8 @@
 #include <iostream>
 #include <optional>
 
+#include "mw/write_batch.hpp"
+
 namespace mtc::dds::detail {
 
 namespace {
@@ -97,9 +99,22 @@ void Executor::post_report(Task task) {
 }
 
 void Executor::run_reports(std::deque<Task>& batch) {
+  // What the reports write leaves together (mw::WriteBatch), but a burst
+  // is closed before the next report once it is burst_age_ old: many reports
+  // in a row do not hold the first one's writes back for long. A report that
+  // itself takes long (callbacks must be short) delays the burst by as much.
+  std::optional<mw::WriteBatch> burst;
+  auto opened = Clock::time_point{};
   for (auto& report : batch) {
+    const auto now = Clock::now();
+    if (!burst || now - opened >= burst_age_) {
+      burst.reset();
+      burst.emplace();
+      opened = now;
+    }
     guarded(report);
   }
+  burst.reset();
   batch.clear();
   std::lock_guard<std::mutex> lock(mutex_);
   reporting_ = false;
@@ -132,6 +147,7 @@ bool Executor::claim_for_inline_step() {
 
 void Executor::run_claimed_step(const Task& step) {
   {
+    const mw::WriteBatch burst;
     std::optional<OwningAState> owning;
     if (steps_write_) owning.emplace();
     for (auto& earlier : owner_batch_) {
@@ -252,6 +268,7 @@ void Executor::run() {
       continue;
     }
     {
+      const mw::WriteBatch burst;
       std::optional<OwningAState> owning;
       if (steps_write_) owning.emplace();
       for (auto& task : batch) {

@@ -25,6 +25,7 @@
 #include "mtc/dds/detail/topic_names.hpp"
 #include "mtc/qos/cyclone_qos.hpp"
 #include "mtc/qos/presets.hpp"
+#include "write_batch.hpp"
 
 namespace mtc::dds::mw {
 
@@ -41,6 +42,16 @@ void put_key(char (&to)[N], const std::string& from) {
   const auto n = std::min(from.size(), N - 1);
   std::copy_n(from.data(), n, to);
   std::fill(to + n, to + N, '\0');
+}
+
+void flush_writer(std::int64_t handle) noexcept {
+  dds_write_flush(static_cast<dds_entity_t>(handle));
+}
+
+// Our domains hold what a writer writes (WriteBatch, see domain_recipe):
+// sent now, or with the rest of the thread's burst when its WriteBatch ends.
+void send(dds_entity_t writer) {
+  if (!WriteBatch::defer(&flush_writer, writer)) dds_write_flush(writer);
 }
 
 // The writers of one publisher, for wait_for_acknowledgments: Cyclone 0.10
@@ -99,12 +110,14 @@ class CycloneValueWriter final : public ValueWriter {
     Sample s{};
     cyclone::to_c(value, paired, s);
     check(dds_write(writer_.get(), &s), "dds_write (state sample)");
+    send(writer_.get());
   }
   void dispose(const std::string& device_uuid, const std::string& data_item_id) override {
     Sample s{};
     put_key(s.device_uuid, device_uuid);
     put_key(s.data_item_id, data_item_id);
     check(dds_dispose(writer_.get(), &s), "dds_dispose (state sample)");
+    send(writer_.get());
   }
 
  private:
@@ -121,12 +134,14 @@ class CycloneHeartbeatWriter final : public HeartbeatWriter {
   void write(const ObservedHeartbeat& heartbeat) override {
     cyclone::to_c(heartbeat, sample_);
     check(dds_write(writer_.get(), &sample_.sample), "dds_write (heartbeat)");
+    send(writer_.get());
   }
   void dispose(const std::string& device_uuid, std::uint32_t group) override {
     mtc_idl_Heartbeat h{};
     put_key(h.device_uuid, device_uuid);
     h.group = group;
     check(dds_dispose(writer_.get(), &h), "dds_dispose (heartbeat)");
+    send(writer_.get());
   }
 
  private:
@@ -144,11 +159,13 @@ class CycloneDeviceWriter final : public DeviceWriter {
     cyclone::CycloneDevice d;
     cyclone::to_c(device, sequence_number, source_time_ns, d);
     check(dds_write(writer_.get(), &d.sample), "dds_write (device announcement)");
+    send(writer_.get());
   }
   void dispose(const std::string& device_uuid) override {
     mtc_idl_DeviceDescription d{};
     put_key(d.device_uuid, device_uuid);
     check(dds_dispose(writer_.get(), &d), "dds_dispose (device announcement)");
+    send(writer_.get());
   }
 
  private:
@@ -243,19 +260,27 @@ std::vector<std::string> multicast_interfaces() {
 // the interfaces are the host's, read when the domain is made
 // (cyclone::DomainRecipe). Security is the participant's, not the domain's
 // (participant_qos below).
+// Appended to the domain's configuration (Cyclone merges the fragments):
+// writers hold their samples until send() flushes them, so that a burst
+// leaves as one message per writer (WriteBatch).
+constexpr const char* kHoldWrites =
+    ",<CycloneDDS><Domain Id=\"any\"><Internal><WriteBatch>true</WriteBatch></Internal>"
+    "</Domain></CycloneDDS>";
+
 cyclone::DomainRecipe domain_recipe(const qos::ParticipantConfig& config) {
   try {
     switch (config.transport) {
       case qos::Transport::Loopback:
       case qos::Transport::LoopbackUdp: {
-        auto xml = qos::cyclone_loopback_config(config.timing);
+        auto xml = qos::cyclone_loopback_config(config.timing) + kHoldWrites;
         return {xml, [xml] { return xml; }};
       }
       case qos::Transport::Network: {
         const qos::Timing timing = config.timing;
-        return {"network " + qos::cyclone_network_config(timing, {}), [timing] {
+        return {"network " + qos::cyclone_network_config(timing, {}) + kHoldWrites, [timing] {
                   try {
-                    return qos::cyclone_network_config(timing, multicast_interfaces());
+                    return qos::cyclone_network_config(timing, multicast_interfaces()) +
+                           kHoldWrites;
                   } catch (const std::invalid_argument& e) {
                     throw ConfigError(e.what());
                   }
