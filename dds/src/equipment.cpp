@@ -71,15 +71,8 @@ void EquipmentImpl::run_unawaited(const char* what, Fn fn) {
   if (!started.load()) {
     throw ConfigError("Equipment " + options.device_uuid + ": call start() first");
   }
-  executor.dispatch([this, what, fn = std::move(fn)]() mutable {
-    try {
-      fn();
-    } catch (const std::exception& e) {
-      diagnostic(std::string(what) + " failed: " + e.what());
-    } catch (...) {
-      diagnostic(std::string(what) + " failed with an unknown exception");
-    }
-  });
+  executor.dispatch(
+      [this, what, fn = std::move(fn)]() mutable { diagnose_throw(what, "failed", fn); });
 }
 
 // ------------------------------------------------------------ ServiceHandle

@@ -470,12 +470,17 @@ struct EquipmentImpl {
   // Application callbacks must not take the executor down.
   template <typename Fn>
   void guard_callback(const char* what, Fn&& fn) {
+    diagnose_throw(what, "callback threw", fn);
+  }
+  // Runs fn; what it throws becomes the diagnostic "<what> <verb>: <why>".
+  template <typename Fn>
+  void diagnose_throw(const char* what, const char* verb, Fn&& fn) {
     try {
       fn();
     } catch (const std::exception& e) {
-      diagnostic(std::string(what) + " callback threw: " + e.what());
+      diagnostic(std::string(what) + ' ' + verb + ": " + e.what());
     } catch (...) {
-      diagnostic(std::string(what) + " callback threw an unknown exception");
+      diagnostic(std::string(what) + ' ' + verb + ": an unknown exception");
     }
   }
 };

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <future>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -104,21 +105,29 @@ void start_without_timers(Executor& ex) {
   ex.start([] { return Clock::time_point::max(); }, [](Clock::time_point) {});
 }
 
+// A report that holds the executor thread until `release` is set: the
+// reports posted meanwhile queue up and then run as one run.
+void hold_executor_thread(Executor& ex, std::promise<void>& release) {
+  // Shared: the report may still be inside set_value() when this returns.
+  auto holding = std::make_shared<std::promise<void>>();
+  auto held = holding->get_future();
+  ex.post_report([holding, &release] {
+    holding->set_value();
+    release.get_future().wait();
+  });
+  held.wait();
+}
+
 // Two reports queued behind a third that holds the executor thread: they
 // run as one run, and what both wrote is sent after the second.
 TEST(WriteBatch, AnExecutorSendsARunOfReportsTogether) {
   forget_sent();
-  std::promise<void> holding;
   std::promise<void> release;
   std::promise<std::vector<std::int64_t>> seen_by_second;
   Executor ex;                  // after what its reports touch: destroyed (and joined) first
   ex.set_burst_age(kGenerous);  // never reached here: one burst
   start_without_timers(ex);
-  ex.post_report([&] {
-    holding.set_value();
-    release.get_future().wait();
-  });
-  holding.get_future().wait();
+  hold_executor_thread(ex, release);
   ex.post_report([] { WriteBatch::defer(&record_flush, 1); });
   ex.post_report([&] {
     WriteBatch::defer(&record_flush, 2);
@@ -135,17 +144,12 @@ TEST(WriteBatch, AnExecutorSendsARunOfReportsTogether) {
 // before the next report runs.
 TEST(WriteBatch, AnExecutorClosesABurstOnceItIsOld) {
   forget_sent();
-  std::promise<void> holding;
   std::promise<void> release;
   std::promise<std::vector<std::int64_t>> seen_by_next;
   Executor ex;
   ex.set_burst_age(Clock::duration::zero());
   start_without_timers(ex);
-  ex.post_report([&] {
-    holding.set_value();
-    release.get_future().wait();
-  });
-  holding.get_future().wait();
+  hold_executor_thread(ex, release);
   ex.post_report([] { WriteBatch::defer(&record_flush, 1); });
   ex.post_report([&] { seen_by_next.set_value(sent()); });
   release.set_value();
