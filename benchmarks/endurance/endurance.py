@@ -10,7 +10,9 @@ summary and a PNG plot. Exit code 0 when every verdict passes, 1 when one
 fails, 2 on a usage error.
 
 Verdicts: each station's and the bridge's CPU in the last --window seconds
-is at most --cpu-ratio times its CPU in the first; no LOST line before the
+is at most --cpu-ratio times its CPU in the first, times the drift of a
+reference load (reference_load.py: fixed work, sampled alike) when the
+machine slowed during the run; no LOST line before the
 stop (false comms-loss alarm); no machine step failed other than by an
 injected fault, none unrecovered; the stream's sequences strictly increase
 with no gap; every process lives until the stop and exits 0.
@@ -38,6 +40,7 @@ import stream_check  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(HERE))
 WATCHED = ("machine", "robot", "feeder", "bridge")  # the CPU verdict's processes
+REFERENCE = "reference"  # reference_load.py: the machine's own drift
 
 
 # After "--transport loopback", which the callers write out (the transport
@@ -104,6 +107,7 @@ class Run:
         self.stem = os.path.join(args.out, args.name)
         self.cell = None
         self.bridge = None
+        self.reference = None
         self.series = []
         self.events = []  # what went wrong while running, in words
         self.log = None
@@ -124,6 +128,8 @@ class Run:
         if "serving MTConnect" not in first:
             raise RuntimeError("mtc-bridge did not start: " + first.strip())
         self._drain(self.bridge.stdout, bridge_log)
+        self.reference = subprocess.Popen(
+            [sys.executable, os.path.join(HERE, "reference_load.py")], preexec_fn=die_with_parent)
         self.stream.start()
         self.cell = subprocess.Popen(
             [os.path.join(apps, "mtc-cell"), "--transport", "loopback"] + cell_args(self.args),
@@ -136,6 +142,7 @@ class Run:
         self.series = [procstat.Series("supervisor", self.cell.pid)]
         self.series += [procstat.Series(n, p) for n, p in self.log.station_pids.items()]
         self.series.append(procstat.Series("bridge", self.bridge.pid))
+        self.series.append(procstat.Series(REFERENCE, self.reference.pid))
 
     @staticmethod
     def _drain(pipe, out):
@@ -178,7 +185,8 @@ class Run:
         if self.log:
             self.log.mark_stopping()
         codes = {}
-        for name, proc in (("cell", self.cell), ("bridge", self.bridge)):
+        for name, proc in (("cell", self.cell), ("bridge", self.bridge),
+                           (REFERENCE, self.reference)):
             if proc is None:
                 continue
             if proc.poll() is None:
@@ -195,18 +203,38 @@ class Run:
         return codes
 
 
-def verdicts(args, processes, cell, stream, codes, events):
-    out = {}
-    flat, detail = True, []
+def machine_drift(processes):
+    """How much more the reference load's fixed work cost in the last window
+    than in the first: 1.0 when it cost the same or less (a faster machine
+    never tightens the verdict), None without its figures."""
+    ref = next((p for p in processes if p["name"] == REFERENCE), None)
+    if ref is None or not ref.get("cpu_first_window_pct") or ref.get("cpu_last_window_pct") is None:
+        return None
+    return max(1.0, ref["cpu_last_window_pct"] / ref["cpu_first_window_pct"])
+
+
+def cpu_flat(cpu_ratio, processes):
+    """Each watched process's last window within cpu_ratio times its first,
+    times the machine's drift: a leak grows one process against the fixed
+    reference, a slow host grows them all with it."""
+    drift = machine_drift(processes)
+    allowed = cpu_ratio * (drift or 1.0)
+    flat, detail = drift is not None, []
     for p in processes:
         if p["name"] not in WATCHED:
             continue
         first, last = p.get("cpu_first_window_pct"), p.get("cpu_last_window_pct")
-        ok = first is not None and last is not None and last <= args.cpu_ratio * first
+        ok = first is not None and last is not None and last <= allowed * first
         flat = flat and ok
         detail.append("%s %s -> %s %%" % (p["name"], first, last))
-    out["cpu_flat"] = {"pass": flat, "detail": "last <= %.2f x first window: %s"
-                       % (args.cpu_ratio, "; ".join(detail))}
+    return {"pass": flat, "machine_drift": None if drift is None else round(drift, 3),
+            "detail": "last <= %.2f x first window (%.2f x machine drift %s): %s"
+                      % (allowed, cpu_ratio, "unknown" if drift is None else "%.2f" % drift,
+                         "; ".join(detail))}
+
+
+def verdicts(args, processes, cell, stream, codes, events):
+    out = {"cpu_flat": cpu_flat(args.cpu_ratio, processes)}
     out["no_false_alarms"] = {"pass": cell["false_alarms"] == 0,
                               "detail": "%d LOST lines before the stop" % cell["false_alarms"]}
     summary = cell["machine_summary"]

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Checks of the endurance harness's own judgement (benchmarks/endurance):
 the stream checker must see every kind of sequence fault, and the cell log
-reader must tell a false alarm from a LOST line after the stop. No DDS, no
-network: synthetic parts and log lines."""
+reader must tell a false alarm from a LOST line after the stop, and the CPU
+verdict must tell a leak from a slow host. No DDS, no network: synthetic
+parts, log lines and CPU figures."""
 import io
 import os
 import sys
@@ -12,6 +13,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "benchmarks", "endurance"))
 
 import cell_log  # noqa: E402
+import endurance  # noqa: E402
 import stream_check  # noqa: E402
 
 NS = "urn:mtconnect.org:MTConnectStreams:1.6"
@@ -131,6 +133,41 @@ class CellLog(unittest.TestCase):
         report, _ = log_of("machine | MATERIAL_LOAD   request could not recover")
         self.assertEqual(len(report["unrecovered_or_dead"]), 1)
         self.assertIsNone(report["other_failures"])  # no summary: the verdict fails
+
+
+def cpu(first_last_by_name):
+    return [{"name": n, "cpu_first_window_pct": f, "cpu_last_window_pct": l}
+            for n, (f, l) in first_last_by_name.items()]
+
+
+class CpuFlat(unittest.TestCase):
+    def test_every_process_rising_with_the_reference_is_a_slow_host(self):
+        # The figures of a CI run on a host that slowed in its last minute.
+        v = endurance.cpu_flat(1.5, cpu({"machine": (2.205, 4.017), "robot": (1.67, 2.983),
+                                         "feeder": (1.37, 2.667), "bridge": (1.821, 3.517),
+                                         "reference": (1.9, 3.6)}))
+        self.assertTrue(v["pass"], v["detail"])
+        self.assertAlmostEqual(v["machine_drift"], 3.6 / 1.9, places=3)
+
+    def test_the_same_rise_against_a_flat_reference_is_a_leak(self):
+        v = endurance.cpu_flat(1.5, cpu({"machine": (2.205, 4.017), "bridge": (1.8, 1.9),
+                                         "reference": (1.9, 1.95)}))
+        self.assertFalse(v["pass"], v["detail"])
+
+    def test_one_process_outgrowing_the_drift_fails(self):
+        v = endurance.cpu_flat(1.5, cpu({"machine": (2.0, 6.5), "robot": (1.6, 2.4),
+                                         "reference": (1.9, 3.8)}))
+        self.assertFalse(v["pass"], v["detail"])
+
+    def test_a_faster_machine_never_tightens_the_limit(self):
+        v = endurance.cpu_flat(1.5, cpu({"machine": (2.0, 2.9), "reference": (2.0, 1.0)}))
+        self.assertTrue(v["pass"], v["detail"])
+        self.assertEqual(v["machine_drift"], 1.0)
+
+    def test_without_the_reference_the_verdict_fails(self):
+        v = endurance.cpu_flat(1.5, cpu({"machine": (2.0, 2.1)}))
+        self.assertFalse(v["pass"], v["detail"])
+        self.assertIsNone(v["machine_drift"])
 
 
 if __name__ == "__main__":
