@@ -143,6 +143,8 @@ void Requester::request(RequestOptions options,
     p.started = now;
     p.ready_deadline = now + options.wait_for_ready;
     s.pending = std::move(p);
+    auto& waiting = impl->waiting_to_issue;
+    if (std::find(waiting.begin(), waiting.end(), slot) == waiting.end()) waiting.push_back(slot);
     impl->try_issue(s, now);
   });
 }

@@ -20,6 +20,7 @@
 
 #include "device_owners.hpp"
 #include "door_chuck.hpp"
+#include "earliest_of.hpp"
 #include "executor.hpp"
 #include "heartbeat_thread.hpp"
 #include "left_incarnations.hpp"
@@ -144,6 +145,9 @@ struct alignas(64) InterfaceSlot {
   std::size_t cp_hash_ = counterpart_hash({}, {});
   mutable SteadyClock::time_point deadline_{};
   mutable bool deadline_known_ = false;
+  bool change_noted_ = false;  // already in *changed_ since next_wake took it
+  std::size_t index_ = 0;      // in EquipmentImpl::interfaces
+  std::vector<std::size_t>* changed_ = nullptr;
 
  public:
   InterfaceConfig config;
@@ -197,13 +201,25 @@ struct alignas(64) InterfaceSlot {
   void set_model(std::unique_ptr<core::InterfaceModel> m) {
     model_ = std::move(m);
     deadline_known_ = false;
+    note_change();
   }
+  // From now on every change to the machines appends `index` to `changed`
+  // once, until the owner of `changed` takes it (EquipmentImpl::next_wake,
+  // which then keeps one deadline per interface instead of asking all).
+  void track_changes(std::vector<std::size_t>* changed, std::size_t index) {
+    changed_ = changed;
+    index_ = index;
+    change_noted_ = false;
+    note_change();
+  }
+  void change_taken() { change_noted_ = false; }
   const core::InterfaceModel& model() const { return *model_; }
   // Every change to the machines goes through here, and forgets the cached
   // deadline: next_wake asks every interface after every step, and with 100
   // interfaces recomputing each one's was a tenth of the runtime's CPU.
   core::InterfaceModel& model_to_change() {
     deadline_known_ = false;
+    note_change();
     return *model_;
   }
   // The machines' next time limit (core::InterfaceModel::next_deadline, a
@@ -217,6 +233,12 @@ struct alignas(64) InterfaceSlot {
   }
 
  private:
+  void note_change() {
+    if (changed_ == nullptr || change_noted_) return;
+    change_noted_ = true;
+    changed_->push_back(index_);
+  }
+
   std::unique_ptr<core::InterfaceModel> model_;
 };
 
@@ -225,6 +247,15 @@ struct EquipmentImpl {
   EquipmentCallbacks callbacks;
   std::vector<std::unique_ptr<InterfaceSlot>> interfaces;
   std::vector<std::unique_ptr<ServiceSlot>> slots;
+  // next_wake's bookkeeping, kept by the owner of the state: the interfaces
+  // whose machines changed since it last looked (InterfaceSlot::
+  // track_changes), each interface's machine deadline as it last saw it, the
+  // interfaces with an election scheduled and the service slots holding a
+  // request not yet issued (both pruned as next_wake finds them done).
+  std::vector<std::size_t> changed_interfaces;
+  detail::EarliestOf interface_deadlines;
+  std::vector<std::size_t> electing;
+  std::vector<std::size_t> waiting_to_issue;
   std::atomic<bool> started{false};
   mutable std::mutex binding_mutex;  // guards cp_uuid / cp_interface for readers
 
@@ -362,7 +393,8 @@ struct EquipmentImpl {
   // Resolves the pending request (there must be one) with this result.
   void end_pending(ServiceSlot& slot, Outcome outcome, core::Reason reason);
   void on_wake(SteadyClock::time_point now);
-  SteadyClock::time_point next_wake() const;
+  // Asked after every step: O(changes since the last call), not O(interfaces).
+  SteadyClock::time_point next_wake();
   ServiceSlot* slot_for(InterfaceSlot& itf, core::Service service, core::Role role) const;
 
   // --- DDS events (equipment_events.cpp) ---
@@ -421,7 +453,8 @@ struct EquipmentImpl {
   void add_candidate(InterfaceSlot& itf, const std::string& device,
                      const std::string& interface_id);
   void elect_due(SteadyClock::time_point now);
-  SteadyClock::time_point next_election() const;
+  void schedule_election(InterfaceSlot& itf);
+  SteadyClock::time_point next_election();
   // The device disposed its instances (a graceful end): it is no longer a
   // candidate, and interfaces paired with it by rule are free again.
   void device_left(const std::string& device, const std::string& cause);

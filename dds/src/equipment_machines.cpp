@@ -1,5 +1,6 @@
 // Equipment: driving the core machines on the executor thread, turning their
 // StepResults into publications, application callbacks and request outcomes.
+#include <algorithm>
 #include <iostream>
 
 #include "equipment_impl.hpp"
@@ -182,12 +183,25 @@ void EquipmentImpl::end_pending(ServiceSlot& slot, Outcome outcome, core::Reason
   }
 }
 
-SteadyClock::time_point EquipmentImpl::next_wake() const {
+SteadyClock::time_point EquipmentImpl::next_wake() {
   auto wake = std::min(next_silence_check(), next_election());
   wake = std::min(wake, reannounce.next());
-  for (const auto& itf : interfaces) wake = std::min(wake, itf->next_deadline());
-  for (const auto& s : slots) {
-    if (s->pending && !s->pending->issued) wake = std::min(wake, s->pending->ready_deadline);
+  for (const auto index : changed_interfaces) {
+    auto& itf = *interfaces[index];
+    itf.change_taken();
+    interface_deadlines.set(index, itf.next_deadline());
+  }
+  changed_interfaces.clear();
+  wake = std::min(wake, interface_deadlines.earliest());
+  const auto issued_or_gone = [this](std::size_t index) {
+    const auto& pending = slots[index]->pending;
+    return !pending || pending->issued;
+  };
+  waiting_to_issue.erase(
+      std::remove_if(waiting_to_issue.begin(), waiting_to_issue.end(), issued_or_gone),
+      waiting_to_issue.end());
+  for (const auto index : waiting_to_issue) {
+    wake = std::min(wake, slots[index]->pending->ready_deadline);
   }
   return wake;
 }

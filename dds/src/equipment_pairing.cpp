@@ -174,16 +174,27 @@ void EquipmentImpl::on_device(detail::DeviceEvent& e) {
 void EquipmentImpl::add_candidate(InterfaceSlot& itf, const std::string& device,
                                   const std::string& interface_id) {
   itf.candidates.emplace(device, interface_id);
-  if (itf.link.load() == LinkState::Unpaired && !itf.elect_at) {
-    itf.elect_at = SteadyClock::now() + options.pairing_settle;
+  if (itf.link.load() == LinkState::Unpaired && !itf.elect_at) schedule_election(itf);
+}
+
+void EquipmentImpl::schedule_election(InterfaceSlot& itf) {
+  itf.elect_at = SteadyClock::now() + options.pairing_settle;
+  const auto index = static_cast<std::size_t>(
+      std::find_if(interfaces.begin(), interfaces.end(),
+                   [&itf](const auto& candidate) { return candidate.get() == &itf; }) -
+      interfaces.begin());
+  if (std::find(electing.begin(), electing.end(), index) == electing.end()) {
+    electing.push_back(index);
   }
 }
 
-SteadyClock::time_point EquipmentImpl::next_election() const {
+SteadyClock::time_point EquipmentImpl::next_election() {
+  // Elections are rare (pairing by rule): the list is nearly always empty.
+  electing.erase(std::remove_if(electing.begin(), electing.end(),
+                                [this](std::size_t index) { return !interfaces[index]->elect_at; }),
+                 electing.end());
   auto wake = SteadyClock::time_point::max();
-  for (const auto& itf : interfaces) {
-    if (itf->elect_at) wake = std::min(wake, *itf->elect_at);
-  }
+  for (const auto index : electing) wake = std::min(wake, *interfaces[index]->elect_at);
   return wake;
 }
 
@@ -223,7 +234,7 @@ void EquipmentImpl::unpair(InterfaceSlot& itf, const std::string& cause) {
   for (auto index : itf.services) slots[index]->addressed = false;
   set_link(itf, LinkState::Unpaired, cause);
   publish_pairing(itf);
-  if (!itf.candidates.empty()) itf.elect_at = SteadyClock::now() + options.pairing_settle;
+  if (!itf.candidates.empty()) schedule_election(itf);
 }
 
 // The counterpart serves (or asks) another interface: a request waiting or

@@ -162,6 +162,7 @@ void EquipmentImpl::create_entities() {
     core::MachineOptions defaults;
     defaults.profile = options.profile;
     itf->set_model(std::make_unique<core::InterfaceModel>(itf->config.type, defaults, &itf->hook));
+    itf->track_changes(&changed_interfaces, static_cast<std::size_t>(&itf - interfaces.data()));
     for (auto index : itf->services) {
       auto& s = *slots[index];
       core::MachineOptions mo = defaults;

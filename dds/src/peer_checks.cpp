@@ -26,9 +26,7 @@ PeerChecks::Verdict PeerChecks::check(std::size_t group, const Handle& writer,
                                       const ObservedValue& value) {
   Verdict verdict;
   auto& items = items_[writer];
-  auto it = items.find(std::string_view(value.data_item_id));
-  if (it == items.end()) it = items.emplace(value.data_item_id, ItemRecord{}).first;
-  auto& record = it->second;
+  auto& record = items.try_emplace(value.data_item_id).first->second;
   auto& reported = record.reported;
   const auto report_once = [&](bool& flag, std::string text) {
     if (flag || verdict.report) return;

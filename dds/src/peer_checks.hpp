@@ -23,6 +23,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -70,7 +71,9 @@ class PeerChecks {
   // Per writer, then per item. Every item of a writer has the same writer
   // key, so one map keyed by (writer, item) compared the 16 bytes of the
   // writer again at every step of every search; this runs for every sample.
-  std::map<Handle, std::map<std::string, ItemRecord, std::less<>>> items_;
+  // Items are hashed: a writer of 100 interfaces has hundreds of items whose
+  // ids share long prefixes, and a tree compared them ten times a sample.
+  std::map<Handle, std::unordered_map<std::string, ItemRecord>> items_;
   std::set<std::pair<Handle, std::size_t>> refused_;  // writer, interaction topic
 };
 
