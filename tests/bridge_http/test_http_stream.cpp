@@ -222,9 +222,13 @@ TEST_F(StreamTest, StalledStreamReaderIsDroppedAfterTheWriteTimeout) {
 TEST_F(StreamTest, AnIdleStreamsPartIsWrittenByTheFeedingThread) {
   auto client = open("/sample?interval=0&heartbeat=10000");
   ASSERT_TRUE(client->read_part());
-  // Until the io thread has finished with the first part, the stream is
-  // busy and a value goes through it: feed until one goes directly.
+  // Until the io thread has finished with a part, the stream is busy and a
+  // value goes through it: feed until one goes directly. The client has the
+  // part's bytes before the io thread has finished with it; on a loaded
+  // machine the next value came first every time (a CI run, 2026-12-07).
+  // The io thread releases the part's bytes when it finishes it: wait for that.
   for (int i = 0; i < 100 && server_->direct_stream_parts() == 0; ++i) {
+    ASSERT_TRUE(eventually([&] { return server_->pending_bytes() == 0; }));
     agent_->add("n", std::to_string(i));
     const auto part = client->read_part(5s);
     ASSERT_TRUE(part);
