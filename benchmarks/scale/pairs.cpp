@@ -33,7 +33,7 @@ class Completer {
           return;
         }
       }
-      r.complete();
+      r.complete(nullptr);  // no future: settling one costs a system call
     };
     return cb;
   }
@@ -46,7 +46,7 @@ class Completer {
       pending.swap(pending_);
     }
     for (auto* r : pending) {
-      r->complete();
+      r->complete(nullptr);
     }
   }
 

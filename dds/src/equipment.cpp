@@ -93,15 +93,29 @@ core::InteractionState ServiceHandle::counterpart_state() const noexcept {
   return impl_.slots[slot_]->snap_counterpart.load();
 }
 
+namespace {
+core::StepResult step_command(EquipmentImpl& impl, std::size_t slot, core::Event event) {
+  auto& s = *impl.slots[slot];
+  const auto now = SteadyClock::now();
+  auto r = impl.apply(s, event, now);
+  impl.auto_recover(s, now);
+  return r;
+}
+}  // namespace
+
 std::future<core::StepResult> ServiceHandle::command(core::Event event) {
   auto* impl = &impl_;
   const auto slot = slot_;
-  return impl_.run<core::StepResult>([impl, slot, event] {
-    auto& s = *impl->slots[slot];
-    const auto now = SteadyClock::now();
-    auto r = impl->apply(s, event, now);
-    impl->auto_recover(s, now);
-    return r;
+  return impl_.run<core::StepResult>(
+      [impl, slot, event] { return step_command(*impl, slot, event); });
+}
+
+void ServiceHandle::command(core::Event event, OnStep on_result) {
+  auto* impl = &impl_;
+  const auto slot = slot_;
+  impl_.run_unawaited("command", [impl, slot, event, cb = std::move(on_result)] {
+    const auto r = step_command(*impl, slot, event);
+    if (cb) impl->report("command result", [cb, r] { cb(r); });
   });
 }
 
@@ -120,6 +134,23 @@ std::future<core::StepResult> Responder::accept() {
 }
 std::future<core::StepResult> Responder::complete() {
   return command(core::Event::Complete);
+}
+void ServiceHandle::fail(OnStep on_result) {
+  command(core::Event::Fail, std::move(on_result));
+}
+void ServiceHandle::recover(core::InteractionState target, OnStep on_result) {
+  command(target == core::InteractionState::NotReady ? core::Event::RecoverNotReady
+                                                     : core::Event::RecoverReady,
+          std::move(on_result));
+}
+void ServiceHandle::set_ready(bool ready, OnStep on_result) {
+  command(ready ? core::Event::SetReady : core::Event::SetNotReady, std::move(on_result));
+}
+void Responder::accept(OnStep on_result) {
+  command(core::Event::Accept, std::move(on_result));
+}
+void Responder::complete(OnStep on_result) {
+  command(core::Event::Complete, std::move(on_result));
 }
 
 void Requester::request(RequestOptions options,

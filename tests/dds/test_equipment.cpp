@@ -75,6 +75,43 @@ TEST(Equipment, EveryServiceCompletesAHandshake) {
   EXPECT_GE(completed->publish_time_ns, completed->step_time_ns);
 }
 
+// The callback forms of the commands (no future to settle): the handshake
+// completes as with the futures, each result reaches its callback, a refused
+// command says so there as well, and nullptr still applies the command.
+TEST(Equipment, CommandsTakeACallbackInsteadOfAFuture) {
+  std::promise<core::StepResult> completed;  // before the cell: it outlives the callbacks
+  std::promise<core::StepResult> refused;
+  Cell cell(158);
+  auto& req = cell.cnc.add_requester("mh1", Service::MaterialUnload);
+  ResponderCallbacks cb;
+  cb.on_request = [&completed](Responder& r) {
+    r.complete([&completed](const core::StepResult& s) { completed.set_value(s); });
+  };
+  auto& resp = cell.robot.add_responder("mh1", Service::MaterialUnload, cb);
+  cell.start();
+  RequestOptions wait;
+  wait.wait_for_ready = 10s;
+  EXPECT_EQ(req.request(wait).get().outcome, Outcome::Completed);
+  auto done = completed.get_future();
+  ASSERT_EQ(done.wait_for(kTimeout), std::future_status::ready);
+  const auto step = done.get();
+  EXPECT_EQ(step.notice, Notice::Completed);
+  EXPECT_EQ(step.current, InteractionState::Complete);
+
+  // Back to READY (steps 7-8): nothing to complete, and the callback says so.
+  ASSERT_TRUE(cell.robot_rec.wait_state(resp, InteractionState::Ready));
+  resp.complete([&refused](const core::StepResult& s) { refused.set_value(s); });
+  auto answer = refused.get_future();
+  ASSERT_EQ(answer.wait_for(kTimeout), std::future_status::ready);
+  const auto refusal = answer.get();
+  EXPECT_EQ(refusal.notice, Notice::Rejected);
+  EXPECT_EQ(refusal.current, InteractionState::Ready);
+
+  resp.set_ready(false, nullptr);
+  EXPECT_TRUE(
+      cell.cnc_rec.wait([&] { return req.counterpart_state() == InteractionState::NotReady; }));
+}
+
 TEST(Equipment, DiscoversItsCounterpartFromTheDeviceAnnouncement) {
   Recorder rec;
   Equipment cnc(options(31, "cnc-2"), rec.callbacks());

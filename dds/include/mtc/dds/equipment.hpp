@@ -284,6 +284,14 @@ class ServiceHandle {
   std::future<core::StepResult> recover(
       core::InteractionState target = core::InteractionState::Ready);
   std::future<core::StepResult> set_ready(bool ready);
+  // The same commands with a callback for the StepResult instead of a future
+  // (on the executor thread, as request()'s; nullptr: no result wanted). For
+  // the hot path of a handshake: settling a future costs a system call even
+  // when nobody reads it (std::promise runs pthread_once, which always wakes).
+  using OnStep = std::function<void(const core::StepResult&)>;
+  void fail(OnStep on_result);
+  void recover(core::InteractionState target, OnStep on_result);
+  void set_ready(bool ready, OnStep on_result);
 
   ServiceHandle(const ServiceHandle&) = delete;
   ServiceHandle& operator=(const ServiceHandle&) = delete;
@@ -292,6 +300,7 @@ class ServiceHandle {
  protected:
   ServiceHandle(EquipmentImpl& impl, std::size_t slot) noexcept : impl_(impl), slot_(slot) {}
   std::future<core::StepResult> command(core::Event event);
+  void command(core::Event event, OnStep on_result);
   EquipmentImpl& impl_;
   std::size_t slot_;
   friend struct EquipmentImpl;
@@ -328,6 +337,10 @@ class Responder final : public ServiceHandle {
  public:
   std::future<core::StepResult> accept();
   std::future<core::StepResult> complete();
+  // With a callback instead of a future (ServiceHandle::OnStep), e.g. in
+  // on_request: `r.complete(nullptr)`.
+  void accept(OnStep on_result);
+  void complete(OnStep on_result);
 
  private:
   using ServiceHandle::ServiceHandle;
