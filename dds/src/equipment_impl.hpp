@@ -213,6 +213,8 @@ struct alignas(64) InterfaceSlot {
     note_change();
   }
   void change_taken() { change_noted_ = false; }
+  // Its place in EquipmentImpl::interfaces (set by track_changes, at start).
+  std::size_t index() const { return index_; }
   const core::InterfaceModel& model() const { return *model_; }
   // Every change to the machines goes through here, and forgets the cached
   // deadline: next_wake asks every interface after every step, and with 100

@@ -179,10 +179,7 @@ void EquipmentImpl::add_candidate(InterfaceSlot& itf, const std::string& device,
 
 void EquipmentImpl::schedule_election(InterfaceSlot& itf) {
   itf.elect_at = SteadyClock::now() + options.pairing_settle;
-  const auto index = static_cast<std::size_t>(
-      std::find_if(interfaces.begin(), interfaces.end(),
-                   [&itf](const auto& candidate) { return candidate.get() == &itf; }) -
-      interfaces.begin());
+  const auto index = itf.index();  // elections come from values: after start
   if (std::find(electing.begin(), electing.end(), index) == electing.end()) {
     electing.push_back(index);
   }
