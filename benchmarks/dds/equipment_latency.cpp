@@ -63,8 +63,7 @@ dds::EquipmentOptions equipment_options(const std::string& uuid, int domain, qos
   // Every FAIL (e.g. a false comms-loss alarm on a loaded machine) clears
   // itself, so one bad handshake cannot stall the run; it is counted.
   o.recovery = dds::RecoveryPolicy::Always;
-  o.inline_steps = g_stepping == Stepping::Inline;
-  o.steps_on_executor = g_stepping == Stepping::Executor;
+  apply(g_stepping, o);
   o.middleware = g_middleware;
   return o;
 }
@@ -297,8 +296,7 @@ pid_t spawn_peer(int domain, qos::Transport t, int round) {
                                    std::to_string(domain),
                                    "--round",
                                    std::to_string(round)};
-  if (g_stepping == Stepping::Inline) args.emplace_back("--inline-steps");
-  if (g_stepping == Stepping::Executor) args.emplace_back("--steps-on-executor");
+  append_peer_flag(g_stepping, args);
   if (g_middleware == dds::Middleware::Cyclone) {
     args.emplace_back("--cyclone-equipment");
   }
@@ -345,18 +343,6 @@ PairRun run_config(int domain, qos::Transport t, int processes, int handshakes, 
 
 std::string series_suffix(Stepping s) {
   return s == Stepping::Default ? std::string() : std::string("_") + to_string(s);
-}
-
-const char* to_string(Stepping s) {
-  switch (s) {
-    case Stepping::Executor:
-      return "executor";
-    case Stepping::Inline:
-      return "inline";
-    case Stepping::Default:
-      break;
-  }
-  return "default";
 }
 
 void set_stepping(Stepping s) {

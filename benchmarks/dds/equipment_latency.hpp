@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "latency_stats.hpp"
+#include "mtc/bench/stepping.hpp"
 
 namespace mtc::bench {
 
@@ -21,14 +22,8 @@ struct EquipmentBenchOptions {
   int round = 1;  // part of the devices' names: a new pair per round
 };
 
-// Where both ends step their machines (EquipmentOptions): the runtime's
-// default (on the thread that brings a value, callbacks on the executor
-// thread), steps_on_executor, or inline_steps.
-enum class Stepping { Default, Executor, Inline };
-// A series' name suffix and JSON value: "", "_executor", "_inline";
-// "default", "executor", "inline".
+// A series' name suffix: "", "_executor", "_inline".
 std::string series_suffix(Stepping s);
-const char* to_string(Stepping s);
 // A run measuring several modes names the devices of a mode's pass by
 // round + this, so that no pair meets an earlier pair's names: at most
 // kModeRoundOffset rounds then.

@@ -14,7 +14,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-bool g_steps_on_executor = false;  // set once by main, before any thread
+Stepping g_stepping = Stepping::Default;  // set once by main, before any thread
 mtc::dds::Middleware g_middleware = mtc::dds::Middleware::FastDds;  // likewise
 
 // Completes every request at once. The runtime may hand a request to
@@ -74,12 +74,16 @@ mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain
   o.transport = g_middleware == mtc::dds::Middleware::Cyclone ? mtc::qos::Transport::LoopbackUdp
                                                               : mtc::qos::Transport::Loopback;
   o.recovery = mtc::dds::RecoveryPolicy::Always;  // a false alarm must not stall a pair
-  o.steps_on_executor = g_steps_on_executor;
+  apply(g_stepping, o);
   return o;
 }
 
-void set_steps_on_executor(bool on) {
-  g_steps_on_executor = on;
+void set_stepping(Stepping stepping) {
+  g_stepping = stepping;
+}
+
+Stepping stepping() {
+  return g_stepping;
 }
 
 void set_middleware(mtc::dds::Middleware m) {
@@ -139,7 +143,7 @@ pid_t spawn_peer(int devices, int interfaces, int domain) {
                                 std::to_string(interfaces),
                                 "--domain",
                                 std::to_string(domain)};
-  if (g_steps_on_executor) args.emplace_back("--steps-on-executor");
+  append_peer_flag(g_stepping, args);
   args.emplace_back("--middleware");
   args.emplace_back(mtc::dds::to_string(g_middleware));
   return exec_self("mtc-bench-scale", args);

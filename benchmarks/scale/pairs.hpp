@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "mtc/bench/stepping.hpp"
 #include "mtc/dds/equipment.hpp"
 
 namespace mtc::bench::scale {
@@ -19,12 +20,13 @@ std::string device(const char* role, int index);
 std::string interface_id(int index);
 
 // On `domain`, loopback only, recovering from every FAIL (a false alarm must
-// not stall a pair); steps as set_steps_on_executor() said, on the DDS
+// not stall a pair); steps as set_stepping() said, on the DDS
 // implementation set_middleware() chose.
 mtc::dds::EquipmentOptions equipment_options(const std::string& uuid, int domain);
-// Both processes' EquipmentOptions::steps_on_executor (default false: the
-// runtime's default); the peer is started with the same.
-void set_steps_on_executor(bool on);
+// How both processes step (mtc/bench/stepping.hpp; default: the runtime's
+// default); the peer is started with the same.
+void set_stepping(Stepping stepping);
+Stepping stepping();
 // Both processes' middleware (default Fast DDS over shared memory and UDP;
 // Cyclone DDS 0.10 in Debian has no shared memory, so UDP on loopback); the
 // peer is started with the same.

@@ -59,6 +59,7 @@ struct Options {
   std::string out;
   int paced = 0;  // handshakes/s offered in total by the paced series; 0: none
   bool steps_on_executor = false;
+  bool inline_steps = false;
   std::string middleware = "fastdds";
   bool peer = false;  // internal: be the responder process
   int devices = 1;    // internal: responder devices in the peer
@@ -93,6 +94,8 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
                "handshakes/s offered in total after each closed loop (0: none)")
       .flag("--steps-on-executor", o.steps_on_executor,
             "both processes step on the executor thread (EquipmentOptions::steps_on_executor)")
+      .flag("--inline-steps", o.inline_steps,
+            "both processes step and call back on the thread that brought the step")
       .choice("--middleware", o.middleware, {"fastdds", "cyclone"},
               "DDS implementation of both processes")
       .text("--out", "FILE", o.out, "also write the JSON to FILE")
@@ -106,6 +109,12 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   if (o.startup_devices % 2 != 0) {
     return cli.usage_error("--startup-devices must be even (requester/responder pairs)");
   }
+  if (o.steps_on_executor && o.inline_steps) {
+    return cli.usage_error("--steps-on-executor and --inline-steps exclude each other");
+  }
+  set_stepping(o.inline_steps        ? Stepping::Inline
+               : o.steps_on_executor ? Stepping::Executor
+                                     : Stepping::Default);
   const auto choice = mtc::dds::choose_middleware(o.middleware);
   if (!choice.middleware) {
     std::cerr << "mtc-bench-scale: " << choice.problem << "\n";
@@ -405,7 +414,7 @@ int run(const Options& o) {
   std::ostringstream json;
   json << "{\"benchmark\":\"scale\",\"cores\":" << std::thread::hardware_concurrency()
        << ",\"unit\":\"us\",\"middleware\":\"" << o.middleware << "\",\"transport\":\""
-       << transport_name() << "\",\"stepping\":\"" << (o.steps_on_executor ? "executor" : "default")
+       << transport_name() << "\",\"stepping\":\"" << to_string(stepping())
        << "\",\"load_average_start\":" << load_json(load_start)
        << ",\"load_average_end\":" << load_json(mtc::bench::load_average())
        << ",\"latency\":\"request() to its outcome, issued as soon as the previous handshake "
@@ -437,7 +446,6 @@ int main(int argc, char** argv) {
   if (const auto exit_code = scale::parse_args(argc, argv, o)) {
     return *exit_code;
   }
-  scale::set_steps_on_executor(o.steps_on_executor);
   try {
     return o.peer ? scale::run_peer(o.devices, o.interfaces, o.domain) : scale::run(o);
   } catch (const std::exception& e) {

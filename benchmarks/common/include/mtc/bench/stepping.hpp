@@ -1,0 +1,42 @@
+// Where both ends of a benchmark's pairs step their machines
+// (mtc::dds::EquipmentOptions): the runtime's default (on the thread that
+// brings a value, callbacks on the executor thread), steps_on_executor, or
+// inline_steps (steps and callbacks on the thread that brought the step).
+// Shared by mtc-bench-dds-latency and mtc-bench-scale, so that a mode has
+// one name in every JSON and one flag for every forked peer.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mtc/dds/equipment.hpp"
+
+namespace mtc::bench {
+
+enum class Stepping { Default, Executor, Inline };
+
+// The JSON value: "default", "executor", "inline".
+inline const char* to_string(Stepping s) noexcept {
+  switch (s) {
+    case Stepping::Executor:
+      return "executor";
+    case Stepping::Inline:
+      return "inline";
+    case Stepping::Default:
+      break;
+  }
+  return "default";
+}
+
+inline void apply(Stepping s, mtc::dds::EquipmentOptions& o) noexcept {
+  o.steps_on_executor = s == Stepping::Executor;
+  o.inline_steps = s == Stepping::Inline;
+}
+
+// The flag a forked peer is started with, if any.
+inline void append_peer_flag(Stepping s, std::vector<std::string>& args) {
+  if (s == Stepping::Executor) args.emplace_back("--steps-on-executor");
+  if (s == Stepping::Inline) args.emplace_back("--inline-steps");
+}
+
+}  // namespace mtc::bench
