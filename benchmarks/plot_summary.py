@@ -94,7 +94,7 @@ def write_scale_dat(path, levels):
                                          l["p99"] / 1000, p["p99"] / 1000 if p else "NaN"))
 
 
-def plot_scale(results, scale, cyclone=None):
+def plot_scale(results, scale, cyclone=None, cyclone_inline=None):
     levels = scale.get("levels") or []
     if not levels:
         return []
@@ -111,6 +111,12 @@ def plot_scale(results, scale, cyclone=None):
                        '"%s" using 1:4 axes x1y2 with linespoints lw 2 dt 4 '
                        'title "Cyclone: p99 (ms)", 20000 with lines dt 2 '
                        'title "Cyclone target: 20,000/s"' % (cdat, cdat))
+    inline_levels = (cyclone_inline or {}).get("levels") or []
+    if inline_levels:
+        idat = os.path.join(results, "scale_cyclone_inline.dat")
+        write_scale_dat(idat, inline_levels)
+        extra += (', "%s" using 1:2 with linespoints lw 2 pt 9 '
+                  'title "Cyclone, inline steps: handshakes/s"' % idat)
     stem = os.path.join(results, "scaling")
     return [draw(stem, "Concurrent interface pairs between two processes "
                  "(Fast DDS SHM+UDP; Cyclone UDP)",
@@ -188,7 +194,8 @@ def main():
         written += plot_cdfs(results, samples, latency.get("cyclone"))
     scale = load(os.path.join(results, "scale.json"))
     if scale:
-        written += plot_scale(results, scale, load(os.path.join(results, "scale_cyclone.json")))
+        written += plot_scale(results, scale, load(os.path.join(results, "scale_cyclone.json")),
+                              load(os.path.join(results, "scale_cyclone_inline.json")))
     one_cpu = load(os.path.join(results, "dds_latency_one_cpu.json"))
     if latency and one_cpu:
         written += plot_placement(results, latency, one_cpu)

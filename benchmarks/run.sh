@@ -19,6 +19,7 @@
 #   scale.json, scaling.png   mtc-bench-scale: 1/10/100 concurrent pairs (closed loop, then
 #                        paced at a fixed offered rate), 20-device start-up
 #   scale_cyclone.json   the same over Cyclone DDS (builds with MTC_CYCLONE)
+#   scale_cyclone_inline.json   the levels over Cyclone once more with inline steps
 #   summary.json         all of it in one summary (machine, load, run time), checked
 #                        for completeness (benchmarks/summary.py)
 #
@@ -54,7 +55,7 @@ mkdir -p "$out"
 # Results of an earlier run must not pass for this one's.
 rm -f "$out"/{wakeup,core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
   "$out"/dds_latency_one_cpu.json \
-  "$out"/{security,scale,scale_cyclone,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling,placement}.png "$out"/cdf_*.dat
+  "$out"/{security,scale,scale_cyclone,scale_cyclone_inline,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling,placement}.png "$out"/cdf_*.dat
 failed=()
 load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 
@@ -173,6 +174,13 @@ if [ -x "$bin/mtc-bench-scale" ]; then
     scale_args[1]="$out/scale_cyclone.json"
     run_one "mtc-bench-scale --middleware cyclone" "$bin/mtc-bench-scale" "${scale_args[@]}" \
       --middleware cyclone >/dev/null
+    # The levels again with inline steps in both processes (each result
+    # callback asks the pair's next handshake on the receive thread): the
+    # mode a vendor would pick for throughput. No start-up: it has no steps.
+    inline_args=(--out "$out/scale_cyclone_inline.json" --paced 2500)
+    [ "$quick" = 1 ] && inline_args=(--out "$out/scale_cyclone_inline.json" --seconds 1 --paced 200)
+    run_one "mtc-bench-scale --middleware cyclone --inline-steps" "$bin/mtc-bench-scale" \
+      "${inline_args[@]}" --startup-devices 0 --middleware cyclone --inline-steps >/dev/null
   else
     note "Cyclone DDS not built in (MTC_CYCLONE=OFF): scale over Cyclone skipped"
   fi

@@ -203,11 +203,11 @@ def required(summary):
     # A build with Cyclone DDS measured its equipment series; then the scale
     # levels over Cyclone belong to the run too.
     if any("cyclone" in name for name in series):
-        cyclone_levels = {l.get("pairs"): l
-                          for l in (summary.get("scale_cyclone") or {}).get("levels") or []}
-        for pairs in (1, 10, 100):
-            checks.append(("scale_cyclone.levels[pairs=%d].handshakes" % pairs,
-                           ((cyclone_levels.get(pairs) or {}).get("handshakes") or 0) > 0))
+        for part in ("scale_cyclone", "scale_cyclone_inline"):
+            levels = {l.get("pairs"): l for l in (summary.get(part) or {}).get("levels") or []}
+            for pairs in (1, 10, 100):
+                checks.append(("%s.levels[pairs=%d].handshakes" % (part, pairs),
+                               ((levels.get(pairs) or {}).get("handshakes") or 0) > 0))
     checks.append(("bridge.current.requests_per_second",
                    ((bridge.get("current") or {}).get("requests_per_second") or 0) > 0))
     checks.append(("bridge.dds_to_stream.from_transition_us",
@@ -252,6 +252,8 @@ def main():
         "dds_latency_one_cpu": dds_part(load_json(os.path.join(r, "dds_latency_one_cpu.json"))),
         "scale": load_json(os.path.join(r, "scale.json")),
         "scale_cyclone": load_json(os.path.join(r, "scale_cyclone.json")),
+        # The same levels with inline steps in both processes (run.sh).
+        "scale_cyclone_inline": load_json(os.path.join(r, "scale_cyclone_inline.json")),
         "security": load_json(os.path.join(r, "security.json")),
         "bridge": bridge_part(load_json_lines(os.path.join(r, "bridge_http.json"))),
         "core": {"benchmarks": len(core.get("benchmarks", []))} if core else None,
