@@ -122,7 +122,8 @@ def plot_scale(results, scale, cyclone=None, cyclone_inline=None):
                  "(Fast DDS SHM+UDP; Cyclone UDP)",
                  'set xlabel "interface pairs handshaking at once"\nset logscale x\n'
                  'set ylabel "handshakes per second"\nset y2label "latency (ms, log scale)"\n'
-                 "set ytics nomirror\nset y2tics\nset grid\nset key outside top center horizontal maxcols 3\n"
+                 "set ytics nomirror\nset y2tics\nset grid\n"
+                 "set key outside top center horizontal maxcols 3\n"
                  "set yrange [0:*]\nset logscale y2\n"
                  'plot "%s" using 1:2 with linespoints lw 2 pt 7 title "Fast DDS: handshakes/s", '
                  '"%s" using 1:3 axes x1y2 with linespoints lw 2 title "p50 (ms)", '
