@@ -86,7 +86,8 @@ TEST(HistorySpan, AnItemThatNeverChangesIsWrittenAgainAsTheOthersMoveOn) {
   const auto ready_after = [&](const std::string& key, std::uint64_t& last) {
     std::lock_guard<std::mutex> lock(m);
     const auto it = newest_used.find(key);
-    if (it == newest_used.end() || to_string(it->second.state) != "READY" ||
+    if (it == newest_used.end() ||
+        it->second.state.interaction() != core::InteractionState::Ready ||
         it->second.sequence_number <= last) {
       return false;
     }
