@@ -203,6 +203,11 @@ Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
   } catch (const std::invalid_argument& e) {
     throw ConfigError(std::string("Equipment: ") + e.what());
   }
+  if (options.pack_callback_writes && !options.inline_steps) {
+    throw ConfigError(
+        "Equipment: pack_callback_writes needs inline_steps (callbacks that run "
+        "with their step)");
+  }
   if (!options.security_dir.empty()) {
     if (auto problem = qos::check_security_dir(options.security_dir)) {
       throw ConfigError("Equipment " + options.device_uuid + ": " + *problem);
@@ -217,6 +222,9 @@ Equipment::Equipment(EquipmentOptions options, EquipmentCallbacks callbacks)
   // Callbacks stay on the executor thread unless inline_steps; set before
   // any thread could read it.
   impl_->defer_reports = !options.inline_steps && !options.steps_on_executor;
+  // Only inline_steps' callbacks promise never to block: they alone may hold
+  // back the step's writes until they return.
+  impl_->writes_wait_for_callbacks = options.pack_callback_writes;
   impl_->options = std::move(options);
   impl_->callbacks = std::move(callbacks);
 }

@@ -484,23 +484,37 @@ struct EquipmentImpl {
   // EquipmentOptions::steps_on_executor): callbacks and command results then
   // go to the executor thread as reports, in order.
   bool defer_reports = false;
+  // EquipmentOptions::pack_callback_writes: with inline_steps a callback
+  // runs on the thread that stepped and must never block, so the step's
+  // writes may wait for it and leave with what it wrote at the end of the
+  // step (over Cyclone DDS one sendmsg here, and one wake-up and recvmsg at
+  // each reader, for both). Otherwise what the step wrote is sent before
+  // the callback runs: an idle counterpart starts waking meanwhile, and a
+  // callback on the executor thread may take up to a lease.
+  bool writes_wait_for_callbacks = false;
+  // What settle() runs: a future made ready wakes the thread that waits on
+  // it (a system call), which the step's writes never wait for; a callback
+  // may (writes_wait_for_callbacks).
+  enum class Settles { Future, Callback };
   // An application callback, at once or as a report: `fn` owns what it
   // needs, as it may run after the step.
   template <typename Fn>
   void report(const char* what, Fn fn) {
-    settle([this, what, fn = std::move(fn)]() mutable { guard_callback(what, fn); });
+    settle([this, what, fn = std::move(fn)]() mutable { guard_callback(what, fn); },
+           Settles::Callback);
   }
   // A command's future made ready (`settle` sets it), after its step's
   // callbacks; where every report goes.
   template <typename Fn>
-  void settle(Fn settle) {
+  void settle(Fn settle, Settles what = Settles::Future) {
     if (defer_reports) {
       executor.post_report(std::move(settle));
-    } else {
-      // Run with the step: what it wrote leaves first (mw::WriteBatch).
-      mw::WriteBatch::send_now();
-      settle();
+      return;
     }
+    // Run with the step (mw::WriteBatch): what it wrote leaves first, but
+    // for a callback that writes_wait_for_callbacks.
+    if (what == Settles::Future || !writes_wait_for_callbacks) mw::WriteBatch::send_now();
+    settle();
   }
   // Application callbacks must not take the executor down.
   template <typename Fn>

@@ -27,7 +27,7 @@ void EquipmentImpl::diagnostic(const std::string& text) {
     }
     std::cerr << "mtc::dds::Equipment " << options.device_uuid << ": " << text << '\n';
   };
-  settle(say);  // a report like the callbacks, never through guard_callback
+  settle(say, Settles::Callback);  // a report, never through guard_callback
 }
 
 ServiceSlot* EquipmentImpl::slot_for(InterfaceSlot& itf, core::Service service,

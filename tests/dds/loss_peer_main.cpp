@@ -27,6 +27,10 @@
 //                               (tests/support/transport.hpp) chooses, as for
 //                               the test that starts it: Cyclone in .ci/run's
 //                               cyclone phase
+//   --inline-steps              EquipmentOptions::inline_steps instead of
+//                               steps_on_executor (test_inline_writes: what
+//                               a step wrote while its callback holds)
+//   --pack-callback-writes      and EquipmentOptions::pack_callback_writes
 // It prints one line per event, flushed: "started", "link <state> <cause>",
 // "transition <prev> <cur> <notice> <reason>", "value <state>",
 // "outcome <n> <outcome> <reason>", "abort <reason>", and
@@ -68,6 +72,8 @@ struct PeerOptions {
   int requests = 1;
   int hold_at_step = 0;
   bool start_on_signal = false;
+  bool inline_steps = false;
+  bool pack_callback_writes = false;
   std::optional<dds::Middleware> middleware;  // none: the test middleware
 };
 
@@ -75,7 +81,8 @@ constexpr const char* kUsage =
     "usage: mtc-test-loss-peer DOMAIN [--role requester|responder] [--uuid U]\n"
     "         [--counterpart U] [--transport loopback|loopback-udp] [--heartbeat-ms N]\n"
     "         [--requests N] [--hold-at-step K] [--start-on-sigusr1]\n"
-    "         [--middleware fastdds|cyclone]\n";
+    "         [--middleware fastdds|cyclone] [--inline-steps]\n"
+    "         [--pack-callback-writes]\n";
 
 bool parse_int(const std::string& text, int low, int high, int& out) {
   char* end = nullptr;
@@ -114,13 +121,21 @@ bool parse_option(const std::string& name, const std::string& value, PeerOptions
   return false;
 }
 
+// The option that takes no value named `name`; nullptr if it is none.
+bool* flag_option(const std::string& name, PeerOptions& o) {
+  if (name == "--start-on-sigusr1") return &o.start_on_signal;
+  if (name == "--inline-steps") return &o.inline_steps;
+  if (name == "--pack-callback-writes") return &o.pack_callback_writes;
+  return nullptr;
+}
+
 // Exit code: 0 parsed, 1 --help, 2 usage error.
 int parse(int argc, char** argv, PeerOptions& o) {
   if (argc >= 2 && std::string(argv[1]) == "--help") return 1;
   if (argc < 2 || !parse_int(argv[1], 0, 232, o.domain)) return 2;
   for (int i = 2; i < argc; i += 2) {
-    if (std::string(argv[i]) == "--start-on-sigusr1") {
-      o.start_on_signal = true;
+    if (bool* flag = flag_option(argv[i], o)) {
+      *flag = true;
       --i;
       continue;
     }
@@ -184,6 +199,8 @@ class Peer {
     // default's reports). The survivor, the side under test, keeps the
     // default.
     e.steps_on_executor = true;
+    e.inline_steps = o.inline_steps;  // callbacks with the step all the same
+    e.pack_callback_writes = o.pack_callback_writes;
     return e;
   }
 

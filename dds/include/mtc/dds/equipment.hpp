@@ -262,6 +262,15 @@ struct EquipmentOptions {
   // then runs on the middleware's threads and must never block there.
   // Takes precedence over steps_on_executor.
   bool inline_steps = false;
+  // pack_callback_writes (needs inline_steps): what a step wrote waits for
+  // its callbacks and leaves with what they wrote (a command's future is
+  // still made ready after the writes left). Over Cyclone DDS a responder's
+  // ACTIVE then shares one message with the COMPLETE its on_request wrote:
+  // less CPU per handshake under load, but a counterpart that was idle
+  // starts waking only once the callbacks are done, so a single handshake
+  // takes longer (docs/benchmarks.md, "Writes packed with their callbacks'").
+  // Fast DDS sends every write at once: no effect there.
+  bool pack_callback_writes = false;
 };
 
 class Equipment;
