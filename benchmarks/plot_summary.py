@@ -94,7 +94,8 @@ def write_scale_dat(path, levels):
                                          l["p99"] / 1000, p["p99"] / 1000 if p else "NaN"))
 
 
-def plot_scale(results, scale, cyclone=None, cyclone_inline=None):
+def plot_scale(results, scale, cyclone=None, cyclone_modes=None):
+    """cyclone_modes: {"inline": ..., "packed": ...}, scale_cyclone_<mode>.json."""
     levels = scale.get("levels") or []
     if not levels:
         return []
@@ -111,12 +112,15 @@ def plot_scale(results, scale, cyclone=None, cyclone_inline=None):
                        '"%s" using 1:4 axes x1y2 with linespoints lw 2 dt 4 '
                        'title "Cyclone: p99 (ms)", 20000 with lines dt 2 '
                        'title "Cyclone target: 20,000/s"' % (cdat, cdat))
-    inline_levels = (cyclone_inline or {}).get("levels") or []
-    if inline_levels:
-        idat = os.path.join(results, "scale_cyclone_inline.dat")
-        write_scale_dat(idat, inline_levels)
-        extra += (', "%s" using 1:2 with linespoints lw 2 pt 9 '
-                  'title "Cyclone, inline steps: handshakes/s"' % idat)
+    # Colours of their own: gnuplot's cycle would give the packed line the Fast DDS colour.
+    for part, title, point, colour in (("inline", "inline steps", 9, "black"),
+                                       ("packed", "inline, packed writes", 11, "#d95f02")):
+        more = ((cyclone_modes or {}).get(part) or {}).get("levels") or []
+        if more:
+            mdat = os.path.join(results, "scale_cyclone_%s.dat" % part)
+            write_scale_dat(mdat, more)
+            extra += (', "%s" using 1:2 with linespoints lw 2 pt %d lc rgb "%s" '
+                      'title "Cyclone, %s: handshakes/s"' % (mdat, point, colour, title))
     stem = os.path.join(results, "scaling")
     return [draw(stem, "Concurrent interface pairs between two processes "
                  "(Fast DDS SHM+UDP; Cyclone UDP)",
@@ -195,8 +199,10 @@ def main():
         written += plot_cdfs(results, samples, latency.get("cyclone"))
     scale = load(os.path.join(results, "scale.json"))
     if scale:
+        modes = {m: load(os.path.join(results, "scale_cyclone_%s.json" % m))
+                 for m in ("inline", "packed")}
         written += plot_scale(results, scale, load(os.path.join(results, "scale_cyclone.json")),
-                              load(os.path.join(results, "scale_cyclone_inline.json")))
+                              modes)
     one_cpu = load(os.path.join(results, "dds_latency_one_cpu.json"))
     if latency and one_cpu:
         written += plot_placement(results, latency, one_cpu)

@@ -20,6 +20,8 @@
 #                        paced at a fixed offered rate), 20-device start-up
 #   scale_cyclone.json   the same over Cyclone DDS (builds with MTC_CYCLONE)
 #   scale_cyclone_inline.json   the levels over Cyclone once more with inline steps
+#   scale_cyclone_packed.json   and with inline steps whose writes leave with their
+#                        callbacks' (EquipmentOptions::pack_callback_writes)
 #   summary.json         all of it in one summary (machine, load, run time), checked
 #                        for completeness (benchmarks/summary.py)
 #
@@ -55,7 +57,7 @@ mkdir -p "$out"
 # Results of an earlier run must not pass for this one's.
 rm -f "$out"/{wakeup,core,bridge_agent,bridge_path_cost,bridge_http,dds_latency,dds_latency_samples}.json \
   "$out"/dds_latency_one_cpu.json \
-  "$out"/{security,scale,scale_cyclone,scale_cyclone_inline,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling,placement}.png "$out"/cdf_*.dat
+  "$out"/{security,scale,scale_cyclone,scale_cyclone_inline,scale_cyclone_packed,summary}.json "$out"/{dds_latency,latency_cdf_*,scaling,placement}.png "$out"/cdf_*.dat
 failed=()
 load_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 
@@ -181,6 +183,12 @@ if [ -x "$bin/mtc-bench-scale" ]; then
     [ "$quick" = 1 ] && inline_args=(--out "$out/scale_cyclone_inline.json" --seconds 1 --paced 200)
     run_one "mtc-bench-scale --middleware cyclone --inline-steps" "$bin/mtc-bench-scale" \
       "${inline_args[@]}" --startup-devices 0 --middleware cyclone --inline-steps >/dev/null
+    # Once more with the step's writes packed with its callbacks' (a
+    # responder's ACTIVE with its COMPLETE): one sendmsg fewer per handshake.
+    inline_args[1]="$out/scale_cyclone_packed.json"
+    run_one "mtc-bench-scale --middleware cyclone --inline-steps --pack-callback-writes" \
+      "$bin/mtc-bench-scale" "${inline_args[@]}" --startup-devices 0 --middleware cyclone \
+      --inline-steps --pack-callback-writes >/dev/null
   else
     note "Cyclone DDS not built in (MTC_CYCLONE=OFF): scale over Cyclone skipped"
   fi

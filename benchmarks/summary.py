@@ -203,7 +203,7 @@ def required(summary):
     # A build with Cyclone DDS measured its equipment series; then the scale
     # levels over Cyclone belong to the run too.
     if any("cyclone" in name for name in series):
-        for part in ("scale_cyclone", "scale_cyclone_inline"):
+        for part in ("scale_cyclone", "scale_cyclone_inline", "scale_cyclone_packed"):
             levels = {l.get("pairs"): l for l in (summary.get(part) or {}).get("levels") or []}
             for pairs in (1, 10, 100):
                 checks.append(("%s.levels[pairs=%d].handshakes" % (part, pairs),
@@ -254,6 +254,8 @@ def main():
         "scale_cyclone": load_json(os.path.join(r, "scale_cyclone.json")),
         # The same levels with inline steps in both processes (run.sh).
         "scale_cyclone_inline": load_json(os.path.join(r, "scale_cyclone_inline.json")),
+        # And with pack_callback_writes too.
+        "scale_cyclone_packed": load_json(os.path.join(r, "scale_cyclone_packed.json")),
         "security": load_json(os.path.join(r, "security.json")),
         "bridge": bridge_part(load_json_lines(os.path.join(r, "bridge_http.json"))),
         "core": {"benchmarks": len(core.get("benchmarks", []))} if core else None,

@@ -60,6 +60,7 @@ struct Options {
   int paced = 0;  // handshakes/s offered in total by the paced series; 0: none
   bool steps_on_executor = false;
   bool inline_steps = false;
+  bool pack_callback_writes = false;
   std::string middleware = "fastdds";
   bool peer = false;  // internal: be the responder process
   int devices = 1;    // internal: responder devices in the peer
@@ -96,6 +97,9 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
             "both processes step on the executor thread (EquipmentOptions::steps_on_executor)")
       .flag("--inline-steps", o.inline_steps,
             "both processes step and call back on the thread that brought the step")
+      .flag("--pack-callback-writes", o.pack_callback_writes,
+            "with --inline-steps: a step's writes leave with what its callbacks wrote\n"
+            "(EquipmentOptions::pack_callback_writes)")
       .choice("--middleware", o.middleware, {"fastdds", "cyclone"},
               "DDS implementation of both processes")
       .text("--out", "FILE", o.out, "also write the JSON to FILE")
@@ -112,9 +116,13 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   if (o.steps_on_executor && o.inline_steps) {
     return cli.usage_error("--steps-on-executor and --inline-steps exclude each other");
   }
-  set_stepping(o.inline_steps        ? Stepping::Inline
-               : o.steps_on_executor ? Stepping::Executor
-                                     : Stepping::Default);
+  if (o.pack_callback_writes && !o.inline_steps) {
+    return cli.usage_error("--pack-callback-writes needs --inline-steps");
+  }
+  set_stepping(o.pack_callback_writes ? Stepping::InlinePacked
+               : o.inline_steps       ? Stepping::Inline
+               : o.steps_on_executor  ? Stepping::Executor
+                                      : Stepping::Default);
   const auto choice = mtc::dds::choose_middleware(o.middleware);
   if (!choice.middleware) {
     std::cerr << "mtc-bench-scale: " << choice.problem << "\n";

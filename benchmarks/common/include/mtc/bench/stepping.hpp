@@ -1,7 +1,8 @@
 // Where both ends of a benchmark's pairs step their machines
 // (mtc::dds::EquipmentOptions): the runtime's default (on the thread that
 // brings a value, callbacks on the executor thread), steps_on_executor, or
-// inline_steps (steps and callbacks on the thread that brought the step).
+// inline_steps (steps and callbacks on the thread that brought the step),
+// also with pack_callback_writes (a step's writes leave with its callbacks').
 // Shared by mtc-bench-dds-latency and mtc-bench-scale, so that a mode has
 // one name in every JSON and one flag for every forked peer.
 #pragma once
@@ -13,15 +14,17 @@
 
 namespace mtc::bench {
 
-enum class Stepping { Default, Executor, Inline };
+enum class Stepping { Default, Executor, Inline, InlinePacked };
 
-// The JSON value: "default", "executor", "inline".
+// The JSON value: "default", "executor", "inline", "inline_packed".
 inline const char* to_string(Stepping s) noexcept {
   switch (s) {
     case Stepping::Executor:
       return "executor";
     case Stepping::Inline:
       return "inline";
+    case Stepping::InlinePacked:
+      return "inline_packed";
     case Stepping::Default:
       break;
   }
@@ -30,13 +33,15 @@ inline const char* to_string(Stepping s) noexcept {
 
 inline void apply(Stepping s, mtc::dds::EquipmentOptions& o) noexcept {
   o.steps_on_executor = s == Stepping::Executor;
-  o.inline_steps = s == Stepping::Inline;
+  o.inline_steps = s == Stepping::Inline || s == Stepping::InlinePacked;
+  o.pack_callback_writes = s == Stepping::InlinePacked;
 }
 
 // The flag a forked peer is started with, if any.
 inline void append_peer_flag(Stepping s, std::vector<std::string>& args) {
   if (s == Stepping::Executor) args.emplace_back("--steps-on-executor");
-  if (s == Stepping::Inline) args.emplace_back("--inline-steps");
+  if (s == Stepping::Inline || s == Stepping::InlinePacked) args.emplace_back("--inline-steps");
+  if (s == Stepping::InlinePacked) args.emplace_back("--pack-callback-writes");
 }
 
 }  // namespace mtc::bench
