@@ -511,8 +511,8 @@ struct EquipmentImpl {
       executor.post_report(std::move(settle));
       return;
     }
-    // Run with the step (mw::WriteBatch): what it wrote leaves first, but
-    // for a callback that writes_wait_for_callbacks.
+    // Run with the step (mw::WriteBatch): what the step wrote leaves first,
+    // unless this is a callback and writes_wait_for_callbacks.
     if (what == Settles::Future || !writes_wait_for_callbacks) mw::WriteBatch::send_now();
     settle();
   }

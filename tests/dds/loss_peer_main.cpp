@@ -31,6 +31,10 @@
 //                               steps_on_executor (test_inline_writes: what
 //                               a step wrote while its callback holds)
 //   --pack-callback-writes      and EquipmentOptions::pack_callback_writes
+//   --hold-in-request N         responder: hold no earlier than in the Nth
+//                               request (0, the default: at the first
+//                               chance), so that a test can complete
+//                               handshakes first
 // It prints one line per event, flushed: "started", "link <state> <cause>",
 // "transition <prev> <cur> <notice> <reason>", "value <state>",
 // "outcome <n> <outcome> <reason>", "abort <reason>", and
@@ -71,6 +75,7 @@ struct PeerOptions {
   int heartbeat_ms = 100;
   int requests = 1;
   int hold_at_step = 0;
+  int hold_in_request = 0;  // responder: hold from this request on (0: any)
   bool start_on_signal = false;
   bool inline_steps = false;
   bool pack_callback_writes = false;
@@ -82,7 +87,7 @@ constexpr const char* kUsage =
     "         [--counterpart U] [--transport loopback|loopback-udp] [--heartbeat-ms N]\n"
     "         [--requests N] [--hold-at-step K] [--start-on-sigusr1]\n"
     "         [--middleware fastdds|cyclone] [--inline-steps]\n"
-    "         [--pack-callback-writes]\n";
+    "         [--pack-callback-writes] [--hold-in-request N]\n";
 
 bool parse_int(const std::string& text, int low, int high, int& out) {
   char* end = nullptr;
@@ -118,6 +123,7 @@ bool parse_option(const std::string& name, const std::string& value, PeerOptions
   if (name == "--heartbeat-ms") return parse_int(value, 10, 10000, o.heartbeat_ms);
   if (name == "--requests") return parse_int(value, 0, 1000, o.requests);
   if (name == "--hold-at-step") return parse_int(value, 0, 8, o.hold_at_step);
+  if (name == "--hold-in-request") return parse_int(value, 0, 1000, o.hold_in_request);
   return false;
 }
 
@@ -155,6 +161,7 @@ class Peer {
     }
     dds::ResponderCallbacks rc;
     rc.on_request = [this](dds::Responder& r) {
+      ++requests_seen_;
       hold_if(2);
       r.accept();
     };
@@ -269,7 +276,9 @@ class Peer {
 
   // Freezes the whole process once, at hold point `step`.
   void hold_if(int step) {
-    if (step != options_.hold_at_step || held_.exchange(true)) return;
+    if (step != options_.hold_at_step) return;
+    if (responder_ != nullptr && requests_seen_ < options_.hold_in_request) return;
+    if (held_.exchange(true)) return;
     say("hold " + std::to_string(step) + " " +
         std::to_string(mtc::dds::detail::topics::realtime_ns()));
     raise(SIGSTOP);
@@ -286,7 +295,8 @@ class Peer {
   dds::Requester* requester_ = nullptr;
   dds::Responder* responder_ = nullptr;
   std::atomic<bool> held_{false};
-  int requests_done_ = 0;  // executor thread only
+  int requests_done_ = 0;              // executor thread only
+  std::atomic<int> requests_seen_{0};  // responder: on_request calls
   std::mutex out_mutex_;
 };
 

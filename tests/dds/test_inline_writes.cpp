@@ -7,15 +7,19 @@
 // callback wrote. Without the option the ACTIVE leaves before the callback
 // runs; Fast DDS sends every write at once either way.
 //
-// The responder runs in a child process (mtc-test-loss-peer --inline-steps),
-// which freezes itself (SIGSTOP) inside the callback that follows its
-// ACTIVE (hold point 3) and completes once continued. While it is frozen,
+// The responder runs in a child process (mtc-test-loss-peer --inline-steps).
+// One handshake first, so that nothing of the pairing is still being
+// written (another thread's write of the same writer would send what a step
+// holds); in the second the responder freezes itself (SIGSTOP) inside the
+// callback that follows its ACTIVE (hold point 3) and completes once
+// continued. While it is frozen,
 // this process (the requester) sees the ACTIVE, except over Cyclone DDS
 // with the option; there it arrives only after SIGCONT.
 #include <gtest/gtest.h>
 #include <signal.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -38,9 +42,11 @@ constexpr int kHeartbeatMs = 200;  // a lease of 1 s: the freeze below is far sh
 // (Cyclone DDS): over loopback a sent sample arrives in well under 1 ms.
 constexpr std::chrono::milliseconds kFrozenWindow{300};
 
-// The requester's step that saw the response ACTIVE; nullptr before it.
-const TransitionEvent* seen_active(const std::vector<TransitionEvent>& events) {
-  const auto it = std::find_if(events.begin(), events.end(), [](const TransitionEvent& e) {
+// The requester's step that saw the response ACTIVE, from events[from] on;
+// nullptr before it.
+const TransitionEvent* seen_active(const std::vector<TransitionEvent>& events, std::size_t from) {
+  const auto start = events.begin() + static_cast<std::ptrdiff_t>(std::min(from, events.size()));
+  const auto it = std::find_if(start, events.end(), [](const TransitionEvent& e) {
     return e.step.event == core::Event::SeenActive;
   });
   return it == events.end() ? nullptr : &*it;
@@ -48,20 +54,36 @@ const TransitionEvent* seen_active(const std::vector<TransitionEvent>& events) {
 
 enum class Writes { AtOnce, Packed };  // the peer's pack_callback_writes
 
+// The responder "resp-<tag>", paired with "req-<tag>", held in its second request.
+std::vector<std::string> peer_args(int domain, Middleware middleware, Writes writes,
+                                   const std::string& tag) {
+  std::vector<std::string> args = {MTC_LOSS_PEER_PATH,
+                                   std::to_string(domain),
+                                   "--role",
+                                   "responder",
+                                   "--uuid",
+                                   "resp-" + tag,
+                                   "--counterpart",
+                                   "req-" + tag,
+                                   "--transport",
+                                   "loopback-udp",
+                                   "--heartbeat-ms",
+                                   std::to_string(kHeartbeatMs),
+                                   "--hold-at-step",
+                                   "3",
+                                   "--hold-in-request",
+                                   "2",
+                                   "--middleware",
+                                   std::string(to_string(middleware)),
+                                   "--inline-steps"};
+  if (writes == Writes::Packed) args.emplace_back("--pack-callback-writes");
+  return args;
+}
+
 void run_case(int domain, Middleware middleware, Writes writes, const std::string& tag) {
   const std::string self = "req-" + tag;
   const std::string peer_uuid = "resp-" + tag;
-  std::vector<std::string> args = {MTC_LOSS_PEER_PATH, std::to_string(domain),
-                                   "--role",           "responder",
-                                   "--uuid",           peer_uuid,
-                                   "--counterpart",    self,
-                                   "--transport",      "loopback-udp",
-                                   "--heartbeat-ms",   std::to_string(kHeartbeatMs),
-                                   "--hold-at-step",   "3",
-                                   "--middleware",     std::string(to_string(middleware)),
-                                   "--inline-steps"};
-  if (writes == Writes::Packed) args.emplace_back("--pack-callback-writes");
-  ChildProcess peer(std::move(args));
+  ChildProcess peer(peer_args(domain, middleware, writes, tag));
   Recorder rec;
   auto o = options(domain, self, qos::Transport::LoopbackUdp);
   o.middleware = middleware;
@@ -73,6 +95,9 @@ void run_case(int domain, Middleware middleware, Writes writes, const std::strin
   cnc.start();
   RequestOptions wait;
   wait.wait_for_ready = 20s;
+  ASSERT_EQ(req.request(wait).get().outcome, Outcome::Completed) << rec.dump();
+  ASSERT_TRUE(rec.wait([&] { return req.counterpart_state() == InteractionState::Ready; }));
+  const auto before = rec.transitions().size();
   auto result = req.request(wait);
 
   ASSERT_TRUE(peer.wait_for_line({"hold 3"}, kTimeout)) << peer.transcript() << rec.dump();
@@ -93,7 +118,7 @@ void run_case(int domain, Middleware middleware, Writes writes, const std::strin
   ASSERT_EQ(result.wait_for(kTimeout), std::future_status::ready) << rec.dump();
   EXPECT_EQ(result.get().outcome, Outcome::Completed) << rec.dump();
   const auto events = rec.transitions();
-  const auto* active = seen_active(events);
+  const auto* active = seen_active(events, before);
   ASSERT_NE(active, nullptr) << rec.dump();
   ASSERT_NE(active->trigger_receive_time_ns, 0);
   if (held) {
