@@ -169,7 +169,7 @@ WriterBase::~WriterBase() {
   // Fast DDS 2.9 deletes a writer by releasing its samples one at a time
   // while the writer's periodic heartbeat still runs, and each heartbeat
   // walks every hole of the history under the same lock: with thousands of
-  // instances (100 interfaces, observed) deleting one writer was seen to
+  // instances (128 interfaces, observed) deleting one writer was seen to
   // take minutes. clear_history releases them all under one hold of that
   // lock first. What it drops was acknowledged or waited for in vain
   // (Equipment's shutdown waits for acknowledgments first), and deleting
