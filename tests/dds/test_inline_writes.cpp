@@ -12,9 +12,9 @@
 // written (another thread's write of the same writer would send what a step
 // holds); in the second the responder freezes itself (SIGSTOP) inside the
 // callback that follows its ACTIVE (hold point 3) and completes once
-// continued. While it is frozen,
-// this process (the requester) sees the ACTIVE, except over Cyclone DDS
-// with the option; there it arrives only after SIGCONT.
+// continued. While it is frozen, this process (the requester) sees the
+// ACTIVE, except over Cyclone DDS with the option; there it arrives only
+// after SIGCONT.
 #include <gtest/gtest.h>
 #include <signal.h>
 
