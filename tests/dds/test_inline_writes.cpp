@@ -33,10 +33,9 @@ namespace {
 
 using mtc::test::ChildProcess;
 
-// One domain per case: ctest runs the cases in parallel.
+// One domain per case: ctest runs the cases in parallel (the Cyclone ones
+// below: 175, 176).
 constexpr int kFastDdsDomain = 159;
-constexpr int kCycloneDomain = 175;
-constexpr int kCyclonePackedDomain = 176;
 constexpr int kHeartbeatMs = 200;  // a lease of 1 s: the freeze below is far shorter
 // How long the frozen responder is watched for an ACTIVE that must not come
 // (Cyclone DDS): over loopback a sent sample arrives in well under 1 ms.
@@ -141,6 +140,9 @@ TEST(InlineWrites, PackingNeedsInlineSteps) {
 }
 
 #ifdef MTC_TEST_WITH_CYCLONE  // an MTC_CYCLONE build
+constexpr int kCycloneDomain = 175;
+constexpr int kCyclonePackedDomain = 176;
+
 TEST(InlineWrites, CycloneSendsTheActiveBeforeTheCallbackByDefault) {
   run_case(kCycloneDomain, Middleware::Cyclone, Writes::AtOnce, "iwc");
 }
