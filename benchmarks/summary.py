@@ -198,6 +198,8 @@ def required(summary):
                        (level.get("responder_rss_kb") or 0) > 0))
         checks.append(("scale.levels[pairs=%d].paced.handshakes" % pairs,
                        ((level.get("paced") or {}).get("handshakes") or 0) > 0))
+        checks.append(("scale.levels[pairs=%d].paced.issue_delay" % pairs,
+                       "p99" in ((level.get("paced") or {}).get("issue_delay") or {})))
     checks.append(("scale.startup.all_ready_ms",
                    ((scale.get("startup") or {}).get("all_ready_ms") or -1) > 0))
     # A build with Cyclone DDS measured its equipment series; then the scale

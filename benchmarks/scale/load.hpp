@@ -24,7 +24,10 @@ using Clock = std::chrono::steady_clock;
 // What a load generator measured.
 struct Tally {
   std::vector<double> samples_us;  // latency of every completed handshake
-  std::size_t failed = 0;          // handshakes with any other outcome
+  // Pacer only: scheduled instant to request(), for the same handshakes (the
+  // load generator's own lateness plus any wait for the pair's last handshake).
+  std::vector<double> issue_delay_us;
+  std::size_t failed = 0;  // handshakes with any other outcome
   Clock::time_point last_result;
 };
 

@@ -327,12 +327,15 @@ double cpu_us_per_handshake(const Run& r) {
 
 std::string paced_json(const Run& r) {
   const auto sum = mtc::bench::summarize(r.tally.samples_us);
+  const auto delay = mtc::bench::summarize(r.tally.issue_delay_us);
   std::ostringstream json;
   json << "{\"offered_per_s\":" << r.offered_per_s << ",\"achieved_per_s\":" << per_second(r)
        << ",\"seconds\":" << r.seconds << ",\"handshakes\":" << sum.count
        << ",\"failed\":" << r.tally.failed << ",\"not_issued\":" << r.not_issued
        << ",\"p50\":" << sum.p50 << ",\"p90\":" << sum.p90 << ",\"p99\":" << sum.p99
        << ",\"p999\":" << sum.p999 << ",\"max\":" << sum.max
+       << ",\"issue_delay\":{\"p50\":" << delay.p50 << ",\"p99\":" << delay.p99
+       << ",\"p999\":" << delay.p999 << ",\"max\":" << delay.max << "}"
        << ",\"cpu_us_per_handshake\":" << cpu_us_per_handshake(r) << "}";
   return json.str();
 }
