@@ -22,7 +22,7 @@ struct EquipmentBenchOptions {
   int round = 1;  // part of the devices' names: a new pair per round
 };
 
-// A series' name suffix: "", "_executor", "_inline".
+// A series' name suffix: "", "_executor", "_inline", "_inline_packed".
 std::string series_suffix(Stepping s);
 // A run measuring several modes names the devices of a mode's pass by
 // round + this, so that no pair meets an earlier pair's names: at most

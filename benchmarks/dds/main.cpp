@@ -49,7 +49,7 @@ struct Options {
   bool raw = true;
   bool equipment = true;
   // The equipment series' stepping modes, each a pass of every round
-  // (--step-modes, --inline-steps, --steps-on-executor).
+  // (--step-modes, --inline-steps, --pack-callback-writes, --steps-on-executor).
   std::vector<mtc::bench::Stepping> modes{mtc::bench::Stepping::Default};
   bool peer = false;               // internal: this process is the forked ponger
   bool equipment_peer = false;     // internal: the forked responder equipment
@@ -81,47 +81,66 @@ constexpr const char* kAbout =
     "   \"cyclone\":{...},\"ratios\":[...],\"targets\":{...}}\n"
     "(benchmarks/run.sh: bench-results/dds_latency.json, plotted to dds_latency.png).";
 
-// --step-modes and the single-mode flags: false when several modes have
-// more rounds than device names allow.
-bool apply_step_modes(const std::string& modes, bool inline_steps, bool on_executor, Options& o) {
+// The flags of stepping_options, as given.
+struct SteppingFlags {
+  std::string modes;  // --step-modes
+  bool inline_steps = false;
+  bool on_executor = false;
+  bool pack = false;  // --pack-callback-writes
+};
+
+// --step-modes and the single-mode flags; an error message when they do not
+// go together, or when several modes have more rounds than device names allow.
+std::optional<std::string> apply_step_modes(const SteppingFlags& f, Options& o) {
   using mtc::bench::Stepping;
-  if (modes == "all") {
+  if (f.pack && !f.inline_steps) {
+    return std::string("--pack-callback-writes needs --inline-steps");
+  }
+  if (f.modes == "all") {
     o.modes = {Stepping::Default, Stepping::Executor, Stepping::Inline};
-  } else if (modes == "both") {
+  } else if (f.modes == "both") {
     o.modes = {Stepping::Default, Stepping::Inline};
-  } else if (modes == "inline" || inline_steps) {
+  } else if (f.modes == "inline_packed" || f.pack) {
+    o.modes = {Stepping::InlinePacked};
+  } else if (f.modes == "inline" || f.inline_steps) {
     o.modes = {Stepping::Inline};
-  } else if (modes == "executor" || on_executor) {
+  } else if (f.modes == "executor" || f.on_executor) {
     o.modes = {Stepping::Executor};
   }
-  return o.modes.size() == 1 || o.rounds <= mtc::bench::kModeRoundOffset;
+  if (o.modes.size() > 1 && o.rounds > mtc::bench::kModeRoundOffset) {
+    return "--step-modes " + f.modes + ": at most " + std::to_string(mtc::bench::kModeRoundOffset) +
+           " rounds";
+  }
+  return std::nullopt;
 }
 
-mtc::bench::Cli& stepping_options(mtc::bench::Cli& cli, std::string& step_modes, bool& inline_steps,
-                                  bool& on_executor) {
+mtc::bench::Cli& stepping_options(mtc::bench::Cli& cli, SteppingFlags& f) {
   return cli
-      .flag("--inline-steps", inline_steps,
+      .flag("--inline-steps", f.inline_steps,
             "the equipment series with EquipmentOptions::inline_steps\n(both ends), as "
             "--step-modes inline")
-      .flag("--steps-on-executor", on_executor,
+      .flag("--pack-callback-writes", f.pack,
+            "with --inline-steps: also EquipmentOptions::\npack_callback_writes (both ends), as "
+            "--step-modes\ninline_packed")
+      .flag("--steps-on-executor", f.on_executor,
             "the equipment series with EquipmentOptions::\nsteps_on_executor (both ends), as "
             "--step-modes executor")
-      .choice("--step-modes", step_modes, {"default", "executor", "inline", "both", "all"},
+      .choice("--step-modes", f.modes,
+              {"default", "executor", "inline", "inline_packed", "both", "all"},
               "the equipment series with the runtime's default\nstepping, steps_on_executor, "
-              "inline_steps, both\n(default and inline) or all three, one after the\nother in "
-              "every round; their series end in \"\",\n\"_executor\", \"_inline\" (default "
-              "default)");
+              "inline_steps,\ninline_steps with pack_callback_writes, both\n(default and "
+              "inline) or all three but packed, one\nafter the other in every round; their "
+              "series end in\n\"\", \"_executor\", \"_inline\", \"_inline_packed\" "
+              "(default\ndefault)");
 }
 
 // Usage errors -> exit code; nullopt to run.
 std::optional<int> parse_args(int argc, char** argv, Options& o) {
   std::string only;
-  std::string step_modes;
-  bool inline_steps = false;
-  bool on_executor = false;
+  SteppingFlags stepping;
   std::string transport = mtc::bench::to_string(o.transport);
   mtc::bench::Cli cli("mtc-bench-dds-latency", kAbout);
-  stepping_options(cli, step_modes, inline_steps, on_executor)
+  stepping_options(cli, stepping)
       .integer("--samples", o.samples, 1, 10000000,
                "raw round trips per series, split over the rounds")
       .integer("--warmup", o.warmup, 0, 10000000,
@@ -159,9 +178,8 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   if (const auto exit_code = cli.parse(argc, argv)) {
     return exit_code;
   }
-  if (!apply_step_modes(step_modes, inline_steps, on_executor, o)) {
-    return cli.usage_error("--step-modes " + step_modes + ": at most " +
-                           std::to_string(mtc::bench::kModeRoundOffset) + " rounds");
+  if (const auto error = apply_step_modes(stepping, o)) {
+    return cli.usage_error(*error);
   }
   if (!only.empty()) {
     o.raw = only == "raw";

@@ -92,7 +92,8 @@ inline std::string cyclone_target_json(const std::vector<Series>& all,
   return json.str();
 }
 
-// "mtc_<metric>_<transport>_2proc<mode>", mode "" or "_inline".
+// "mtc_<metric>_<transport>_2proc<mode>", mode "", "_executor", "_inline" or
+// "_inline_packed".
 inline std::string two_process_series(const char* metric, const std::string& transport,
                                       const std::string& mode) {
   std::string name = "mtc_";
@@ -124,13 +125,14 @@ inline std::string transport_target_json(const std::string& key, const Reference
 // half the listener round trip; handshake p50 <= 2.3x and p99 <= 3x it. And
 // section 3's Cyclone target, when that series ran. Per stepping mode that
 // ran: "shm_udp" is the runtime's default, "shm_udp_executor" with
-// steps_on_executor, "shm_udp_inline" with inline_steps.
+// steps_on_executor, "shm_udp_inline" with inline_steps, "shm_udp_inline_packed"
+// with pack_callback_writes too.
 inline std::string targets_json(const std::vector<Series>& all,
                                 const std::optional<Reference>& cyclone) {
   std::ostringstream json;
   json << "{";
   bool first = true;
-  for (const std::string mode : {"", "_executor", "_inline"}) {
+  for (const std::string mode : {"", "_executor", "_inline", "_inline_packed"}) {
     for (const std::string transport : {"shm_udp", "udp_loopback"}) {
       const auto listener = reference(all, listener_name(transport));
       const auto transition = reference(all, two_process_series("transition", transport, mode));
