@@ -93,19 +93,18 @@ struct SteppingFlags {
 // go together, or when several modes have more rounds than device names allow.
 std::optional<std::string> apply_step_modes(const SteppingFlags& f, Options& o) {
   using mtc::bench::Stepping;
-  if (f.pack && !f.inline_steps) {
-    return std::string("--pack-callback-writes needs --inline-steps");
+  const auto flagged = mtc::bench::stepping_from_flags(f.on_executor, f.inline_steps, f.pack);
+  if (!flagged) {
+    return std::string(mtc::bench::kPackNeedsInlineSteps);
   }
   if (f.modes == "all") {
     o.modes = {Stepping::Default, Stepping::Executor, Stepping::Inline};
   } else if (f.modes == "both") {
     o.modes = {Stepping::Default, Stepping::Inline};
-  } else if (f.modes == "inline_packed" || f.pack) {
-    o.modes = {Stepping::InlinePacked};
-  } else if (f.modes == "inline" || f.inline_steps) {
-    o.modes = {Stepping::Inline};
-  } else if (f.modes == "executor" || f.on_executor) {
-    o.modes = {Stepping::Executor};
+  } else {
+    // One mode, named by --step-modes or by a flag: the later in Stepping's
+    // order wins, as it does among the flags.
+    o.modes = {std::max(mtc::bench::stepping_named(f.modes), *flagged)};
   }
   if (o.modes.size() > 1 && o.rounds > mtc::bench::kModeRoundOffset) {
     return "--step-modes " + f.modes + ": at most " + std::to_string(mtc::bench::kModeRoundOffset) +

@@ -116,13 +116,12 @@ std::optional<int> parse_args(int argc, char** argv, Options& o) {
   if (o.steps_on_executor && o.inline_steps) {
     return cli.usage_error("--steps-on-executor and --inline-steps exclude each other");
   }
-  if (o.pack_callback_writes && !o.inline_steps) {
-    return cli.usage_error("--pack-callback-writes needs --inline-steps");
+  const auto stepping =
+      mtc::bench::stepping_from_flags(o.steps_on_executor, o.inline_steps, o.pack_callback_writes);
+  if (!stepping) {
+    return cli.usage_error(mtc::bench::kPackNeedsInlineSteps);
   }
-  set_stepping(o.pack_callback_writes ? Stepping::InlinePacked
-               : o.inline_steps       ? Stepping::Inline
-               : o.steps_on_executor  ? Stepping::Executor
-                                      : Stepping::Default);
+  set_stepping(*stepping);
   const auto choice = mtc::dds::choose_middleware(o.middleware);
   if (!choice.middleware) {
     std::cerr << "mtc-bench-scale: " << choice.problem << "\n";

@@ -7,7 +7,9 @@
 // one name in every JSON and one flag for every forked peer.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mtc/dds/equipment.hpp"
@@ -29,6 +31,28 @@ inline const char* to_string(Stepping s) noexcept {
       break;
   }
   return "default";
+}
+
+// The mode a JSON name (to_string) stands for; Default for any other text.
+inline Stepping stepping_named(std::string_view name) noexcept {
+  for (const auto s : {Stepping::Executor, Stepping::Inline, Stepping::InlinePacked}) {
+    if (name == to_string(s)) return s;
+  }
+  return Stepping::Default;
+}
+
+inline constexpr const char* kPackNeedsInlineSteps = "--pack-callback-writes needs --inline-steps";
+
+// The mode the single-mode flags (--steps-on-executor, --inline-steps,
+// --pack-callback-writes) ask for: the latest in Stepping's order that one
+// of them names. nullopt when --pack-callback-writes comes without
+// --inline-steps (kPackNeedsInlineSteps; the runtime's ConfigError).
+inline std::optional<Stepping> stepping_from_flags(bool on_executor, bool inline_steps,
+                                                   bool pack) noexcept {
+  if (pack && !inline_steps) return std::nullopt;
+  if (pack) return Stepping::InlinePacked;
+  if (inline_steps) return Stepping::Inline;
+  return on_executor ? Stepping::Executor : Stepping::Default;
 }
 
 inline void apply(Stepping s, mtc::dds::EquipmentOptions& o) noexcept {
